@@ -1,0 +1,187 @@
+#include "kernel/Nurbs_surface_3.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "kernel/Error.h"
+#include "kernel/internal/Bspline_basis.h"
+#include "kernel/internal/Knot_vector.h"
+
+namespace extremal {
+
+Nurbs_surface_3::Nurbs_surface_3(int degree_u, int degree_v, int n_u, int n_v,
+                                 std::vector<Point_3> poles, std::vector<double> knots_u,
+                                 std::vector<double> knots_v, std::vector<double> weights)
+    : m_degree_u(degree_u),
+      m_degree_v(degree_v),
+      m_n_u(n_u),
+      m_n_v(n_v),
+      m_poles(std::move(poles)),
+      m_weights(std::move(weights)),
+      m_knots_u(std::move(knots_u)),
+      m_knots_v(std::move(knots_v)) {
+  if (n_u < 1 || n_v < 1) {
+    std::ostringstream os;
+    os << "NURBS surface: control grid " << n_u << " x " << n_v << " is empty";
+    throw Invalid_input(os.str());
+  }
+  const std::size_t count = static_cast<std::size_t>(n_u) * static_cast<std::size_t>(n_v);
+  if (m_poles.size() != count) {
+    std::ostringstream os;
+    os << "NURBS surface: " << m_poles.size() << " control points for a " << n_u << " x " << n_v
+       << " grid";
+    throw Invalid_input(os.str());
+  }
+  internal::validate_knots(m_knots_u, n_u, degree_u, "NURBS surface u knots");
+  internal::validate_knots(m_knots_v, n_v, degree_v, "NURBS surface v knots");
+  if (m_weights.empty()) m_weights.assign(count, 1.0);
+  if (m_weights.size() != count) {
+    std::ostringstream os;
+    os << "NURBS surface: " << m_weights.size() << " weights for " << count
+       << " control points";
+    throw Invalid_input(os.str());
+  }
+  m_hom.resize(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const double w = m_weights[k];
+    const Point_3& P = m_poles[k];
+    if (!(std::isfinite(w) && w > 0.0)) {
+      std::ostringstream os;
+      os << "NURBS surface: weight of control point (" << k / n_v << ", " << k % n_v << ") is "
+         << w << ", weights must be finite and > 0";
+      throw Invalid_input(os.str());
+    }
+    if (!(std::isfinite(P.x()) && std::isfinite(P.y()) && std::isfinite(P.z()))) {
+      std::ostringstream os;
+      os << "NURBS surface: control point (" << k / n_v << ", " << k % n_v
+         << ") has a non-finite coordinate";
+      throw Invalid_input(os.str());
+    }
+    if (w != 1.0) m_rational = true;
+    m_hom[k] = Eigen::Vector4d(w * P.x(), w * P.y(), w * P.z(), w);
+  }
+
+  // Closedness: compare opposite boundary curves at a few parameters.
+  const Bbox_3 box = hull_bbox();
+  const double size = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(),
+                                box.zmax() - box.zmin(), 1e-300});
+  const double tol = 1e-12 * size;
+  constexpr int samples = 7;
+  bool cu = true, cv = true;
+  Surface_point a, b;
+  for (int s = 0; s <= samples; ++s) {
+    const double fv = v_min() + (v_max() - v_min()) * s / samples;
+    const double fu = u_min() + (u_max() - u_min()) * s / samples;
+    evaluate(u_min(), fv, a, 0);
+    evaluate(u_max(), fv, b, 0);
+    cu = cu && (a.p - b.p).norm() <= tol;
+    evaluate(fu, v_min(), a, 0);
+    evaluate(fu, v_max(), b, 0);
+    cv = cv && (a.p - b.p).norm() <= tol;
+  }
+  m_closed_u = cu;
+  m_closed_v = cv;
+}
+
+Nurbs_surface_3 Nurbs_surface_3::from_homogeneous(int degree_u, int degree_v, int n_u, int n_v,
+                                                  const Homogeneous& poles,
+                                                  std::vector<double> knots_u,
+                                                  std::vector<double> knots_v) {
+  std::vector<Point_3> pts;
+  std::vector<double> ws;
+  pts.reserve(poles.size());
+  ws.reserve(poles.size());
+  for (const auto& h : poles) {
+    pts.emplace_back(h.x() / h.w(), h.y() / h.w(), h.z() / h.w());
+    ws.push_back(h.w());
+  }
+  return Nurbs_surface_3(degree_u, degree_v, n_u, n_v, std::move(pts), std::move(knots_u),
+                         std::move(knots_v), std::move(ws));
+}
+
+void Nurbs_surface_3::evaluate(double u, double v, Surface_point& out, int order) const {
+  EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
+                            "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
+  EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
+                            "v = " << v << " outside [" << v_min() << ", " << v_max() << "]");
+  EXTREMAL_PRECONDITION(order >= 0 && order <= 2);
+  const int p = m_degree_u, q = m_degree_v;
+  const int su = internal::find_span(m_knots_u.data(), m_n_u, p, u);
+  const int sv = internal::find_span(m_knots_v.data(), m_n_v, q, v);
+  internal::Basis_derivatives Nu, Nv;
+  internal::basis_derivatives(m_knots_u.data(), su, p, u, order, Nu);
+  internal::basis_derivatives(m_knots_v.data(), sv, q, v, order, Nv);
+
+  // S[k][l] = d^(k+l) / du^k dv^l of the homogeneous surface, k + l <= order.
+  Eigen::Vector4d S[3][3];
+  for (int k = 0; k <= order; ++k)
+    for (int l = 0; l + k <= order; ++l) S[k][l].setZero();
+  for (int i = 0; i <= p; ++i) {
+    const Eigen::Vector4d* row = &m_hom[static_cast<std::size_t>(su - p + i) * m_n_v + (sv - q)];
+    Eigen::Vector4d t0 = Eigen::Vector4d::Zero(), t1 = Eigen::Vector4d::Zero(),
+                    t2 = Eigen::Vector4d::Zero();
+    for (int j = 0; j <= q; ++j) {
+      t0 += Nv.ders[0][j] * row[j];
+      if (order >= 1) t1 += Nv.ders[1][j] * row[j];
+      if (order >= 2) t2 += Nv.ders[2][j] * row[j];
+    }
+    S[0][0] += Nu.ders[0][i] * t0;
+    if (order >= 1) {
+      S[1][0] += Nu.ders[1][i] * t0;
+      S[0][1] += Nu.ders[0][i] * t1;
+    }
+    if (order >= 2) {
+      S[2][0] += Nu.ders[2][i] * t0;
+      S[1][1] += Nu.ders[1][i] * t1;
+      S[0][2] += Nu.ders[0][i] * t2;
+    }
+  }
+  if (!m_rational) {
+    out.p = S[0][0].head<3>();
+    if (order >= 1) {
+      out.du = S[1][0].head<3>();
+      out.dv = S[0][1].head<3>();
+    }
+    if (order >= 2) {
+      out.duu = S[2][0].head<3>();
+      out.duv = S[1][1].head<3>();
+      out.dvv = S[0][2].head<3>();
+    }
+    return;
+  }
+  // Quotient rule on A / w, A the Cartesian part of the homogeneous derivatives.
+  const double inv = 1.0 / S[0][0].w();
+  out.p = S[0][0].head<3>() * inv;
+  if (order >= 1) {
+    const double wu = S[1][0].w(), wv = S[0][1].w();
+    out.du = (S[1][0].head<3>() - wu * out.p) * inv;
+    out.dv = (S[0][1].head<3>() - wv * out.p) * inv;
+    if (order >= 2) {
+      out.duu = (S[2][0].head<3>() - 2.0 * wu * out.du - S[2][0].w() * out.p) * inv;
+      out.duv = (S[1][1].head<3>() - wu * out.dv - wv * out.du - S[1][1].w() * out.p) * inv;
+      out.dvv = (S[0][2].head<3>() - 2.0 * wv * out.dv - S[0][2].w() * out.p) * inv;
+    }
+  }
+}
+
+Point_3 Nurbs_surface_3::point(double u, double v) const {
+  Surface_point sp;
+  evaluate(u, v, sp, 0);
+  return to_point(sp.p);
+}
+
+Vec3 Nurbs_surface_3::outward_normal(const Surface_point& sp) const {
+  const Vec3 n = sp.du.cross(sp.dv);
+  const double len = n.norm();
+  if (!(len > 0.0)) return Vec3::Zero();
+  return (m_outward_sign / len) * n;
+}
+
+Bbox_3 Nurbs_surface_3::hull_bbox() const {
+  Bbox_3 box;
+  for (const auto& p : m_poles) box += p.bbox();
+  return box;
+}
+
+}  // namespace extremal

@@ -1,0 +1,25 @@
+// Basic geometric types shared by every layer. Public API speaks CGAL (Point_3, Bbox_3);
+// hot loops use fixed-size Eigen vectors, which is what Vec3 is for.
+#pragma once
+
+#include <CGAL/Bbox_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace extremal {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point_3 = Kernel::Point_3;
+using Vector_3 = Kernel::Vector_3;
+using Bbox_3 = CGAL::Bbox_3;
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+inline Vec3 to_vec3(const Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
+inline Vec3 to_vec3(const Vector_3& v) { return Vec3(v.x(), v.y(), v.z()); }
+inline Point_3 to_point(const Vec3& v) { return Point_3(v.x(), v.y(), v.z()); }
+inline Vector_3 to_vector(const Vec3& v) { return Vector_3(v.x(), v.y(), v.z()); }
+
+}  // namespace extremal
