@@ -1,0 +1,189 @@
+#include "algorithms/Pair_geometry.h"
+
+#include <cmath>
+
+#include <Eigen/LU>
+
+namespace extremal {
+
+void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec4& params,
+                       Pair_system& s, bool with_motion) {
+  const int na = A.feature->dimension(), nb = B.feature->dimension();
+  s.na = na;
+  s.nb = nb;
+  evaluate_feature(*A.feature, *A.pose, params.data(), s.a, 2);
+  evaluate_feature(*B.feature, *B.pose, params.data() + na, s.b, 2);
+  const Vec3 d = s.a.p - s.b.p;
+  s.d = d;
+  s.phi.setZero();
+  s.M.setIdentity();
+  for (int i = 0; i < na; ++i) {
+    s.phi[i] = d.dot(s.a.d[i]);
+    for (int k = 0; k < na; ++k) s.M(i, k) = s.a.d[k].dot(s.a.d[i]) + d.dot(s.a.dd[i][k]);
+    for (int l = 0; l < nb; ++l) s.M(i, na + l) = -s.b.d[l].dot(s.a.d[i]);
+  }
+  for (int j = 0; j < nb; ++j) {
+    s.phi[na + j] = d.dot(s.b.d[j]);
+    for (int k = 0; k < na; ++k) s.M(na + j, k) = s.a.d[k].dot(s.b.d[j]);
+    for (int l = 0; l < nb; ++l)
+      s.M(na + j, na + l) = -s.b.d[l].dot(s.b.d[j]) + d.dot(s.b.dd[j][l]);
+  }
+  s.motion.setZero();
+  if (!with_motion) return;
+  const bool moving_a = A.twist && !A.twist->is_zero();
+  const bool moving_b = B.twist && !B.twist->is_zero();
+  if (!moving_a && !moving_b) return;
+  // Relative velocity of the two material points, then the rotation of each tangent.
+  Vec3 w = Vec3::Zero();
+  if (moving_a) w += A.twist->velocity_at(s.a.p, *A.pose);
+  if (moving_b) w -= B.twist->velocity_at(s.b.p, *B.pose);
+  for (int i = 0; i < na; ++i) {
+    s.motion[i] = w.dot(s.a.d[i]);
+    if (moving_a) s.motion[i] += d.dot(A.twist->angular.cross(s.a.d[i]));
+  }
+  for (int j = 0; j < nb; ++j) {
+    s.motion[na + j] = w.dot(s.b.d[j]);
+    if (moving_b) s.motion[na + j] += d.dot(B.twist->angular.cross(s.b.d[j]));
+  }
+}
+
+Vec4 normalised_projection_errors(const Pair_system& s) {
+  Vec4 e = Vec4::Zero();
+  const double dist = s.d.norm();
+  for (int k = 0; k < s.size(); ++k) {
+    const double denom = dist * s.tangent(k).norm();
+    e[k] = denom > 0.0 ? s.phi[k] / denom : 0.0;
+  }
+  return e;
+}
+
+unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params) {
+  unsigned mask = 0;
+  int k = 0;
+  for (const Feature* f : {&A, &B}) {
+    for (int i = 0; i < f->dimension(); ++i, ++k) {
+      const double lo = f->lower(i), hi = f->upper(i);
+      double& x = params[k];
+      if (!std::isfinite(x)) x = 0.5 * (lo + hi);
+      if (f->is_closed(i)) {
+        const double period = hi - lo;
+        if (x < lo || x > hi) x = lo + (x - lo) - period * std::floor((x - lo) / period);
+        if (x < lo) x = lo;
+        if (x > hi) x = hi;
+        continue;
+      }
+      if (x <= lo) {
+        x = lo;
+        mask |= 1u << k;
+      } else if (x >= hi) {
+        x = hi;
+        mask |= 1u << k;
+      }
+    }
+  }
+  return mask;
+}
+
+unsigned lower_bound_mask(const Feature& A, const Feature& B, const Vec4& params) {
+  unsigned mask = 0;
+  int k = 0;
+  for (const Feature* f : {&A, &B})
+    for (int i = 0; i < f->dimension(); ++i, ++k)
+      if (params[k] <= f->lower(i)) mask |= 1u << k;
+  return mask;
+}
+
+namespace {
+
+bool solve_masked(const Mat4& M, const Vec4& rhs, unsigned frozen, Vec4& x) {
+  Mat4 A = M;
+  Vec4 r = rhs;
+  for (int k = 0; k < 4; ++k) {
+    if (!(frozen & (1u << k))) continue;
+    A.row(k).setZero();
+    A.col(k).setZero();
+    A(k, k) = 1.0;
+    r[k] = 0.0;
+  }
+  const Eigen::PartialPivLU<Mat4> lu(A);
+  const Vec4 diag = lu.matrixLU().diagonal().cwiseAbs();
+  const double scale = A.cwiseAbs().maxCoeff();
+  if (!(diag.minCoeff() > 1e-14 * scale)) {
+    x.setZero();
+    return false;
+  }
+  x = lu.solve(r);
+  if (!x.allFinite()) {
+    x.setZero();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
+                       unsigned lower_side, Vec4& x) {
+  unsigned frozen = 0;
+  for (int pass = 0; pass <= n; ++pass) {
+    if (!solve_masked(M, rhs, frozen, x)) return false;
+    unsigned push_out = 0;
+    for (int k = 0; k < n; ++k) {
+      if (!(on_bound & (1u << k)) || (frozen & (1u << k))) continue;
+      const bool lower = lower_side & (1u << k);
+      if ((lower && x[k] < 0.0) || (!lower && x[k] > 0.0)) push_out |= 1u << k;
+    }
+    if (!push_out) return true;
+    frozen |= push_out;
+  }
+  return true;
+}
+
+Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
+                                 const Vec4& start, const Newton_options& options) {
+  Newton_result r;
+  r.params = start;
+  unsigned on_bound = keep_in_domain(*A.feature, *B.feature, r.params);
+  const Posed_feature a{A.feature, A.pose, nullptr}, b{B.feature, B.pose, nullptr};
+  Pair_system s;
+  const int n = A.feature->dimension() + B.feature->dimension();
+  if (n == 0) {
+    r.converged = true;
+    return r;
+  }
+  Vec4 max_step = Vec4::Zero();
+  {
+    int k = 0;
+    for (const Feature* f : {A.feature, B.feature})
+      for (int i = 0; i < f->dimension(); ++i, ++k) max_step[k] = 0.25 * (f->upper(i) - f->lower(i));
+  }
+  for (r.iterations = 0; r.iterations < options.max_iterations; ++r.iterations) {
+    build_pair_system(a, b, r.params, s, false);
+    const Vec4 e = normalised_projection_errors(s);
+    // Converged: errors at rounding level, or every free parameter is pinned by a bound.
+    bool done = true;
+    for (int k = 0; k < n; ++k)
+      if (std::abs(e[k]) > options.tolerance && !(on_bound & (1u << k))) done = false;
+    if (done && r.iterations > 0) {
+      r.converged = true;
+      break;
+    }
+    Vec4 step;
+    if (!solve_constrained(s.M, -s.phi, n, on_bound,
+                           lower_bound_mask(*A.feature, *B.feature, r.params), step))
+      break;
+    double scale = 1.0;
+    for (int k = 0; k < n; ++k)
+      if (std::abs(step[k]) > max_step[k]) scale = std::min(scale, max_step[k] / std::abs(step[k]));
+    const Vec4 before = r.params;
+    r.params += scale * step;
+    on_bound = keep_in_domain(*A.feature, *B.feature, r.params);
+    if ((r.params - before).cwiseAbs().maxCoeff() == 0.0) {
+      r.converged = true;
+      break;
+    }
+  }
+  return r;
+}
+
+}  // namespace extremal

@@ -1,0 +1,75 @@
+// The extremal-pair conditions between two posed features and their derivatives
+// (../shared/DESIGN.md section 1). With d = f - h (f on A, h on B, world frame):
+//   Phi = [d.f_i (i over A's parameters), d.h_j (j over B's parameters)]
+//   dPhi/dt = M U + b, U the parameter velocities, b the motion term at fixed parameters.
+// Vectors and matrices are padded to size 4: unused entries of Phi and b are zero and the
+// unused block of M is the identity, so every solve is one fixed-size 4x4 solve.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "algorithms/Feature.h"
+#include "kernel/Rigid_pose_3.h"
+
+namespace extremal {
+
+using Vec4 = Eigen::Vector4d;
+using Mat4 = Eigen::Matrix4d;
+
+struct Pair_system {
+  int na = 0, nb = 0;  // parameter counts of A and B; params = [A's..., B's...]
+  Feature_point a, b;  // both features at the parameters, in the world
+  Vec3 d = Vec3::Zero();  // a.p - b.p
+  Vec4 phi = Vec4::Zero();
+  Mat4 M = Mat4::Identity();
+  Vec4 motion = Vec4::Zero();  // b of the design card
+
+  int size() const { return na + nb; }
+  // Tangent along parameter k (A's first, then B's).
+  const Vec3& tangent(int k) const { return k < na ? a.d[k] : b.d[k - na]; }
+};
+
+struct Posed_feature {
+  const Feature* feature;
+  const Rigid_pose_3* pose;
+  const Twist_3* twist;  // may be null: at rest
+};
+
+// Evaluates Phi, M and, when `with_motion`, b at `params`. No heap allocation.
+void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec4& params,
+                       Pair_system& out, bool with_motion = true);
+
+// Seed's normalised projection errors Phi_k / (|d| |tangent_k|); zero where undefined.
+Vec4 normalised_projection_errors(const Pair_system& s);
+
+// Puts parameters back into their domains: closed directions wrap, the rest clamp.
+// Bit k of the returned mask is set when parameter k sits on a bound.
+unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params);
+
+// Solves M x = rhs for the active parameters: a parameter on a bound (bit k of `on_bound`)
+// whose solution would push it outward is frozen (x_k = 0) and the rest re-solved, so a pair on
+// an edge continues as the reduced problem. Returns false if the system is singular or the
+// answer not finite (x is then zero). `lower_side` bit k says the bound is the lower one.
+bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
+                       unsigned lower_side, Vec4& x);
+
+// Which of the bounds in `on_bound` are lower bounds.
+unsigned lower_bound_mask(const Feature& A, const Feature& B, const Vec4& params);
+
+struct Newton_options {
+  int max_iterations = 60;
+  double tolerance = 1e-15;  // on the normalised projection errors
+};
+
+struct Newton_result {
+  Vec4 params = Vec4::Zero();
+  int iterations = 0;
+  bool converged = false;
+};
+
+// Newton's method on Phi = 0 with both bodies at rest, steps limited to a quarter of each
+// parameter domain and kept inside it. Converges to the extremal pair near `start`.
+Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
+                                 const Vec4& start, const Newton_options& options = {});
+
+}  // namespace extremal
