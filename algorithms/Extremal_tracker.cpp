@@ -50,7 +50,8 @@ bool Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   }
   Vec4 p = params;
   const unsigned on_bound = keep_in_domain(m_a, m_b, p);
-  if (!solve_constrained(m_system.M, rhs, n, on_bound, lower_bound_mask(m_a, m_b, p), U))
+  if (!solve_constrained(m_system.M, rhs, n, on_bound, lower_bound_mask(m_a, m_b, p), U,
+                         solve_mode_for(m_system)))
     return false;
   // Far from the pair a full Newton step can leap to another stationary pair; limit the
   // parameter change per step to a fraction of each domain, keeping the direction.

@@ -1,7 +1,10 @@
 #include "algorithms/Pair_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 namespace extremal {
@@ -95,7 +98,8 @@ unsigned lower_bound_mask(const Feature& A, const Feature& B, const Vec4& params
 
 namespace {
 
-bool solve_masked(const Mat4& M, const Vec4& rhs, unsigned frozen, Vec4& x) {
+bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const Solve_mode& mode,
+                  Vec4& x) {
   Mat4 A = M;
   Vec4 r = rhs;
   for (int k = 0; k < 4; ++k) {
@@ -105,10 +109,27 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, unsigned frozen, Vec4& x) {
     A(k, k) = 1.0;
     r[k] = 0.0;
   }
+  if (mode.minimum) {
+    // H = S A is the Hessian of |d|^2 / 2 (symmetric up to rounding).
+    for (int k = mode.na; k < n; ++k) {
+      A.row(k) = -A.row(k);
+      r[k] = -r[k];
+    }
+    A = (0.5 * (A + A.transpose())).eval();
+    const Eigen::LLT<Mat4> llt(A);
+    if (llt.info() != Eigen::Success) {
+      const Eigen::SelfAdjointEigenSolver<Mat4> eig(A);
+      // Size of the active block only: the identity padding must not make a vanishing M look
+      // regular.
+      const double top = A.topLeftCorner(n, n).cwiseAbs().maxCoeff();
+      const double shift = -eig.eigenvalues().minCoeff() + 1e-2 * top;
+      A.diagonal().array() += shift;
+    }
+  }
   const Eigen::PartialPivLU<Mat4> lu(A);
   const Vec4 diag = lu.matrixLU().diagonal().cwiseAbs();
-  const double scale = A.cwiseAbs().maxCoeff();
-  if (!(diag.minCoeff() > 1e-14 * scale)) {
+  const double scale = mode.scale > 0.0 ? mode.scale : A.cwiseAbs().maxCoeff();
+  if (!(diag.minCoeff() > 1e-12 * scale)) {
     x.setZero();
     return false;
   }
@@ -122,11 +143,19 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, unsigned frozen, Vec4& x) {
 
 }  // namespace
 
+Solve_mode solve_mode_for(const Pair_system& s, bool minimum) {
+  Solve_mode mode;
+  mode.minimum = minimum;
+  mode.na = s.na;
+  for (int k = 0; k < s.size(); ++k) mode.scale = std::max(mode.scale, s.tangent(k).squaredNorm());
+  return mode;
+}
+
 bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
-                       unsigned lower_side, Vec4& x) {
+                       unsigned lower_side, Vec4& x, const Solve_mode& mode) {
   unsigned frozen = 0;
   for (int pass = 0; pass <= n; ++pass) {
-    if (!solve_masked(M, rhs, frozen, x)) return false;
+    if (!solve_masked(M, rhs, n, frozen, mode, x)) return false;
     unsigned push_out = 0;
     for (int k = 0; k < n; ++k) {
       if (!(on_bound & (1u << k)) || (frozen & (1u << k))) continue;
@@ -170,7 +199,8 @@ Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
     }
     Vec4 step;
     if (!solve_constrained(s.M, -s.phi, n, on_bound,
-                           lower_bound_mask(*A.feature, *B.feature, r.params), step))
+                           lower_bound_mask(*A.feature, *B.feature, r.params), step,
+                           solve_mode_for(s)))
       break;
     double scale = 1.0;
     for (int k = 0; k < n; ++k)

@@ -46,12 +46,29 @@ Vec4 normalised_projection_errors(const Pair_system& s);
 // Bit k of the returned mask is set when parameter k sits on a bound.
 unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params);
 
+// How solve_constrained treats a Jacobian that is not that of a minimum.
+struct Solve_mode {
+  // Seek a minimum of |d|: Phi is [grad_A, -grad_B] of |d|^2 / 2, so H = S M (S = +1 on A's
+  // rows, -1 on B's) is its Hessian, positive definite at a strict minimum. When it is not
+  // (far from the pair, near a saddle or maximum) H is shifted to be positive definite, which
+  // turns the step into a descent step; near a minimum the step is the plain Newton step.
+  // Off inside penetration, where the extremal pair is a saddle.
+  bool minimum = true;
+  int na = 0;  // A's parameter count, for S
+  // Natural size of M's entries (the squared tangent lengths); M is singular when a pivot
+  // falls below 1e-12 of it. Zero: the largest entry of M.
+  double scale = 0.0;
+};
+
+// The Solve_mode for a pair system: seeking a minimum unless `minimum` is false.
+Solve_mode solve_mode_for(const Pair_system& s, bool minimum = true);
+
 // Solves M x = rhs for the active parameters: a parameter on a bound (bit k of `on_bound`)
 // whose solution would push it outward is frozen (x_k = 0) and the rest re-solved, so a pair on
 // an edge continues as the reduced problem. Returns false if the system is singular or the
 // answer not finite (x is then zero). `lower_side` bit k says the bound is the lower one.
 bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
-                       unsigned lower_side, Vec4& x);
+                       unsigned lower_side, Vec4& x, const Solve_mode& mode = {false, 0});
 
 // Which of the bounds in `on_bound` are lower bounds.
 unsigned lower_bound_mask(const Feature& A, const Feature& B, const Vec4& params);

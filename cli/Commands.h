@@ -13,4 +13,24 @@ struct Info_options {
 };
 int run_info(const Info_options& options);
 
+struct Distance_options {
+  std::string a, b;            // files or shape specs
+  std::string pose_a, pose_b;  // "x,y,z[,qw,qx,qy,qz]", empty = identity
+  double tolerance = 1e-9;
+  bool json = false;
+};
+int run_distance(const Distance_options& options);
+
+struct Report_options {
+  std::vector<std::string> scenes;
+  std::string output;             // -o: .csv or .json; empty = CSV to stdout
+  std::string plot;               // --plot OUT.svg
+  std::string snapshot;           // --snapshot OUT.glb
+  double snapshot_time = 0.0;     // --at T
+  bool snapshot_time_given = false;
+  int threads = 1;
+  bool quiet = false;
+};
+int run_report(const Report_options& options);
+
 }  // namespace extremal::cli

@@ -1,0 +1,170 @@
+// M against central differences of Phi in the parameters, b against differences in time at
+// fixed parameters, for every pair kind and several poses and twists.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "algorithms/Pair_geometry.h"
+#include "kernel/Shapes.h"
+#include "support/Random.h"
+
+namespace extremal {
+namespace {
+
+// Owns the geometry of one side.
+struct Side {
+  std::string name;
+  std::shared_ptr<Nurbs_surface_3> surface;
+  std::shared_ptr<Nurbs_curve_3> curve;
+  Vec3 point = Vec3::Zero();
+  Feature feature() const {
+    if (surface) return Feature::surface(*surface);
+    if (curve) return Feature::curve(*curve);
+    return Feature::point(point);
+  }
+};
+
+std::vector<Side> sides() {
+  std::vector<Side> s;
+  s.push_back({"point", nullptr, nullptr, Vec3(0.3, -0.2, 0.1)});
+  // A rational cubic curve with an interior knot.
+  std::vector<Point_3> cp = {{0, 0, 0}, {1, 2, 0.5}, {2, -1, 1}, {3, 1, -0.5}, {4, 0, 0.3}};
+  s.push_back({"curve",
+               nullptr,
+               std::make_shared<Nurbs_curve_3>(3, cp, std::vector<double>{0, 0, 0, 0, 0.4, 1, 1, 1, 1},
+                                               std::vector<double>{1, 0.7, 1.4, 0.9, 1}),
+               Vec3::Zero()});
+  s.push_back({"ellipsoid", std::make_shared<Nurbs_surface_3>(make_ellipsoid(3, 2, 1.5)), nullptr,
+               Vec3::Zero()});
+  std::vector<Point_3> grid;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j)
+      grid.emplace_back(i * 0.8, j * 0.9, 0.3 * std::sin(1.3 * i + 0.7 * j));
+  std::vector<double> w;
+  for (int k = 0; k < 20; ++k) w.push_back(0.6 + 0.05 * k);
+  s.push_back({"freeform", std::make_shared<Nurbs_surface_3>(make_freeform(3, 2, 5, 4, grid, w)),
+               nullptr, Vec3::Zero()});
+  return s;
+}
+
+Rigid_pose_3 random_pose(std::mt19937_64& rng, double spread) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  return Rigid_pose_3::from_quaternion(Vec3(n(rng), n(rng), n(rng)) * spread, n(rng), n(rng),
+                                       n(rng), n(rng));
+}
+
+Vec4 random_params(const Feature& a, const Feature& b, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.1, 0.9);
+  Vec4 p = Vec4::Zero();
+  int k = 0;
+  for (const Feature* f : {&a, &b})
+    for (int i = 0; i < f->dimension(); ++i, ++k)
+      p[k] = f->lower(i) + u(rng) * (f->upper(i) - f->lower(i));
+  return p;
+}
+
+TEST(PairGeometry, JacobianMatchesCentralDifferences) {
+  auto rng = test::seeded_rng();
+  const auto all = sides();
+  int checked = 0;
+  for (const auto& sa : all)
+    for (const auto& sb : all) {
+      const Feature A = sa.feature(), B = sb.feature();
+      const int n = A.dimension() + B.dimension();
+      if (n == 0) continue;
+      for (int trial = 0; trial < 5; ++trial) {
+        const Rigid_pose_3 XA = random_pose(rng, 2.0), XB = random_pose(rng, 2.0);
+        const Vec4 p = random_params(A, B, rng);
+        Pair_system s, sp, sm;
+        build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, p, s, false);
+        for (int k = 0; k < n; ++k) {
+          const double h = 1e-6;
+          Vec4 pp = p, pm = p;
+          pp[k] += h;
+          pm[k] -= h;
+          build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, pp, sp, false);
+          build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, pm, sm, false);
+          const Vec4 fd = (sp.phi - sm.phi) / (2 * h);
+          for (int r = 0; r < n; ++r) {
+            const double scale = 1.0 + s.M.col(k).cwiseAbs().maxCoeff();
+            EXPECT_NEAR(s.M(r, k), fd[r], 1e-6 * scale)
+                << sa.name << "-" << sb.name << " trial " << trial << " M(" << r << "," << k << ")";
+          }
+          ++checked;
+        }
+        // Padding: unused block is the identity, unused Phi entries zero.
+        for (int r = n; r < 4; ++r) {
+          EXPECT_EQ(s.phi[r], 0.0);
+          EXPECT_EQ(s.M(r, r), 1.0);
+        }
+      }
+    }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(PairGeometry, MotionTermMatchesTimeDifferences) {
+  auto rng = test::seeded_rng(7);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  const auto all = sides();
+  for (const auto& sa : all)
+    for (const auto& sb : all) {
+      const Feature A = sa.feature(), B = sb.feature();
+      const int n = A.dimension() + B.dimension();
+      if (n == 0) continue;
+      for (int trial = 0; trial < 5; ++trial) {
+        const Rigid_pose_3 XA = random_pose(rng, 2.0), XB = random_pose(rng, 2.0);
+        Twist_3 VA, VB;
+        VA.linear = Vec3(nd(rng), nd(rng), nd(rng));
+        VA.angular = Vec3(nd(rng), nd(rng), nd(rng));
+        VB.linear = Vec3(nd(rng), nd(rng), nd(rng));
+        VB.angular = Vec3(nd(rng), nd(rng), nd(rng));
+        if (trial == 0) VA = Twist_3{};  // one side static
+        const Vec4 p = random_params(A, B, rng);
+        Pair_system s, sp, sm;
+        build_pair_system({&A, &XA, &VA}, {&B, &XB, &VB}, p, s, true);
+        const double h = 1e-6;
+        const Rigid_pose_3 XAp = advance(XA, VA, h), XAm = advance(XA, VA, -h);
+        const Rigid_pose_3 XBp = advance(XB, VB, h), XBm = advance(XB, VB, -h);
+        build_pair_system({&A, &XAp, nullptr}, {&B, &XBp, nullptr}, p, sp, false);
+        build_pair_system({&A, &XAm, nullptr}, {&B, &XBm, nullptr}, p, sm, false);
+        const Vec4 fd = (sp.phi - sm.phi) / (2 * h);
+        for (int r = 0; r < n; ++r)
+          EXPECT_NEAR(s.motion[r], fd[r], 1e-6 * (1.0 + std::abs(fd[r])))
+              << sa.name << "-" << sb.name << " trial " << trial << " b[" << r << "]";
+      }
+    }
+}
+
+TEST(PairGeometry, NewtonAtRestReachesStationaryPair) {
+  // Point above a sphere: the closest point is along the ray from the centre.
+  const Nurbs_surface_3 sphere = make_sphere(2.0);
+  const Feature A = Feature::point(Vec3::Zero()), B = Feature::surface(sphere);
+  const Rigid_pose_3 XA(Mat3::Identity(), Vec3(3.0, 1.0, 0.5)), XB;
+  const Newton_result r = solve_pair_at_rest({&A, &XA, nullptr}, {&B, &XB, nullptr},
+                                             Vec4(0.3, 0.2, 0, 0));
+  ASSERT_TRUE(r.converged);
+  Pair_system s;
+  build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, r.params, s, false);
+  EXPECT_NEAR(s.d.norm(), Vec3(3.0, 1.0, 0.5).norm() - 2.0, 1e-14);
+}
+
+TEST(PairGeometry, ConstrainedSolveFreezesParametersPushedOutward) {
+  Mat4 M = Mat4::Identity();
+  M(0, 1) = 0.5;
+  Vec4 x;
+  // Parameter 0 on its lower bound with a solution pointing below: frozen.
+  ASSERT_TRUE(solve_constrained(M, Vec4(-1.0, 2.0, 0, 0), 2, 0b01, 0b01, x));
+  EXPECT_EQ(x[0], 0.0);
+  EXPECT_DOUBLE_EQ(x[1], 2.0);
+  // Pointing inside: left free.
+  ASSERT_TRUE(solve_constrained(M, Vec4(1.0, 0.0, 0, 0), 2, 0b01, 0b01, x));
+  EXPECT_DOUBLE_EQ(x[0], 1.0);
+  // Singular: reported, x zero.
+  EXPECT_FALSE(solve_constrained(Mat4::Zero(), Vec4(1, 1, 1, 1), 4, 0, 0, x));
+  EXPECT_TRUE(x.isZero());
+}
+
+}  // namespace
+}  // namespace extremal
