@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# The main job: set up, build, and run the batch distance report on the bundled demo scene.
+# The report goes to build/demo-report.csv; a readable summary to the terminal.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$root/scripts/build.sh"
+"$root/build/cli/extremal" report "$root/data/demo/demo.json" -o "$root/build/demo-report.csv"
+echo "report: $root/build/demo-report.csv"
