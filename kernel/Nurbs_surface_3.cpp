@@ -71,8 +71,9 @@ Nurbs_surface_3::Nurbs_surface_3(int degree_u, int degree_v, int n_u, int n_v,
   bool cu = true, cv = true;
   Surface_point a, b;
   for (int s = 0; s <= samples; ++s) {
-    const double fv = v_min() + (v_max() - v_min()) * s / samples;
-    const double fu = u_min() + (u_max() - u_min()) * s / samples;
+    // min(): lo + (hi - lo) * 1 can round past hi, and evaluate() rejects that.
+    const double fv = std::min(v_max(), v_min() + (v_max() - v_min()) * s / samples);
+    const double fu = std::min(u_max(), u_min() + (u_max() - u_min()) * s / samples);
     evaluate(u_min(), fv, a, 0);
     evaluate(u_max(), fv, b, 0);
     cu = cu && (a.p - b.p).norm() <= tol;
@@ -82,6 +83,13 @@ Nurbs_surface_3::Nurbs_surface_3(int degree_u, int degree_v, int n_u, int n_v,
   }
   m_closed_u = cu;
   m_closed_v = cv;
+
+  // At a collapsed edge (sphere pole, disk centre) f_u or f_v vanishes only up to rounding, about
+  // eps * |coordinates| per unit of the other derivative; normalising that noise would give an
+  // arbitrary direction. outward_normal treats |f_u x f_v| below this floor as zero.
+  const double reach = std::max({std::abs(box.xmin()), std::abs(box.xmax()), std::abs(box.ymin()),
+                                 std::abs(box.ymax()), std::abs(box.zmin()), std::abs(box.zmax())});
+  m_normal_floor = 1e-12 * reach * size / ((u_max() - u_min()) * (v_max() - v_min()));
 }
 
 Nurbs_surface_3 Nurbs_surface_3::from_homogeneous(int degree_u, int degree_v, int n_u, int n_v,
@@ -174,7 +182,7 @@ Point_3 Nurbs_surface_3::point(double u, double v) const {
 Vec3 Nurbs_surface_3::outward_normal(const Surface_point& sp) const {
   const Vec3 n = sp.du.cross(sp.dv);
   const double len = n.norm();
-  if (!(len > 0.0)) return Vec3::Zero();
+  if (!(len > m_normal_floor)) return Vec3::Zero();
   return (m_outward_sign / len) * n;
 }
 

@@ -66,7 +66,9 @@ class Nurbs_surface_3 {
   // ends included. No heap allocation; a polynomial patch skips the quotient rule.
   void evaluate(double u, double v, Surface_point& out, int order = 2) const;
   Point_3 point(double u, double v) const;
-  // Unit outward normal (f_u x f_v times outward_sign); zero where f_u x f_v vanishes.
+  // Unit outward normal (f_u x f_v times outward_sign); zero where f_u x f_v vanishes, that is
+  // falls below 1e-12 |coordinates| size / (u width * v width), the level rounding leaves at
+  // collapsed edges such as sphere poles.
   Vec3 outward_normal(const Surface_point& sp) const;
 
   // Axis-aligned box of the control points; contains the patch since weights are positive.
@@ -88,6 +90,7 @@ class Nurbs_surface_3 {
   bool m_rational = false;
   bool m_closed_u = false, m_closed_v = false;
   int m_outward_sign = 1;
+  double m_normal_floor = 0.0;
 };
 
 }  // namespace extremal
