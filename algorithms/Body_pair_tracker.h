@@ -30,7 +30,13 @@ struct Pair_report {
 };
 
 struct Body_pair_options {
-  Tracker_options tracker;
+  // Scenes correct the pair when one step's linearisation falls short (see
+  // Tracker_options::corrections).
+  Tracker_options tracker = [] {
+    Tracker_options o;
+    o.corrections = 3;
+    return o;
+  }();
   double threshold = 0.0;  // > 0: pairs whose boxes are farther apart are not tracked
   int seed_samples = 16;   // samples per surface direction when seeding (32 per curve)
 };

@@ -25,6 +25,7 @@ Extremal_tracker::Extremal_tracker(const Feature& a, const Feature& b, const Vec
   EXTREMAL_PRECONDITION_MSG(options.gain.allFinite() && options.gain.minCoeff() >= 0.0,
                             "tracker gain must be finite and >= 0");
   EXTREMAL_PRECONDITION_MSG(options.substeps >= 1, "substeps must be >= 1");
+  EXTREMAL_PRECONDITION_MSG(options.corrections >= 0, "corrections must be >= 0");
   keep_in_domain(m_a, m_b, m_params);
   m_max_change.setConstant(std::numeric_limits<double>::infinity());
   int k = 0;
@@ -64,6 +65,31 @@ bool Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   return true;
 }
 
+int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  int done = 0;
+  const Posed_feature a{&m_a, &X_WA, nullptr}, b{&m_b, &X_WB, nullptr};
+  const int n = m_a.dimension() + m_b.dimension();
+  while (done < m_options.corrections) {
+    build_pair_system(a, b, m_params, m_system, false);
+    if (normalised_projection_errors(m_system).cwiseAbs().maxCoeff() <=
+        m_options.correction_tolerance)
+      break;
+    Vec4 x = m_params;
+    const unsigned on_bound = keep_in_domain(m_a, m_b, x);
+    Vec4 step;
+    ++done;
+    if (!solve_constrained(m_system.M, -m_system.phi, n, on_bound, lower_bound_mask(m_a, m_b, x),
+                           step, solve_mode_for(m_system)))
+      break;
+    double scale = 1.0;
+    for (int k = 0; k < n; ++k)
+      if (std::abs(step[k]) > m_max_change[k]) scale = std::min(scale, m_max_change[k] / std::abs(step[k]));
+    m_params += scale * step;
+    keep_in_domain(m_a, m_b, m_params);
+  }
+  return done;
+}
+
 void Extremal_tracker::fill_result(double t) {
   Track_result& r = m_result;
   r.time = t;
@@ -94,6 +120,7 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
   const double h = dt / substeps;
   int solves = 0;
   bool singular = false;
+  solves += correct(X_WA, X_WB);
   Vec4 x = m_params;
   for (int s = 0; s < substeps && !singular; ++s) {
     // Poses at the start of the substep, from the twists (held constant over the step).

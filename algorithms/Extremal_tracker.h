@@ -16,6 +16,12 @@ struct Tracker_options {
   Vec4 gain = Vec4::Zero();
   int substeps = 1;  // integration substeps per step
   Integrator integrator = Integrator::Euler;
+  // Newton corrections at time t before reporting, made only while some normalised projection
+  // error exceeds `correction_tolerance`. Where one linearised step per frame is not enough
+  // (the pair sweeping past a pole of the parametrisation, a sudden jump in the motion) they
+  // keep the reported pair exact; 0 gives the seed's pure controller.
+  int corrections = 0;
+  double correction_tolerance = 1e-7;
 
   static Tracker_options with_gain(double k) {
     Tracker_options o;
@@ -72,6 +78,9 @@ class Extremal_tracker {
   bool control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3& V_A,
                const Rigid_pose_3& X_WB, const Twist_3& V_B, double dt, Vec4& U);
   void fill_result(double t);
+  // Newton corrections at rest at the given poses (see Tracker_options::corrections); returns
+  // how many were made.
+  int correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
 
   Feature m_a, m_b;
   Tracker_options m_options;

@@ -1,0 +1,125 @@
+// Scene files: motions reproduce their poses, and every error names the JSON path and reason.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "io/Scene.h"
+#include "kernel/Error.h"
+
+namespace extremal {
+namespace {
+
+std::string with_bodies(const std::string& bodies, const std::string& extra = "") {
+  return R"({"time": {"start": 0, "end": 1, "step": 0.1}, "bodies": [)" + bodies + "]" + extra +
+         "}";
+}
+
+// Parses and expects an Invalid_input whose message contains `expected`.
+void expect_error(const std::string& json, const std::string& expected) {
+  try {
+    io::parse_scene(json, "scene.json");
+    ADD_FAILURE() << "no error; expected: " << expected;
+  } catch (const Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+        << "message: " << e.what() << "\nexpected to contain: " << expected;
+    EXPECT_EQ(std::string(e.what()).rfind("scene.json: ", 0), 0u) << e.what();
+  }
+}
+
+const char* k_sphere = R"({"name": "A", "shape": {"type": "sphere", "radius": 1}})";
+
+TEST(Scene, TwistMotionReproducesItsPoses) {
+  const auto scene = io::parse_scene(with_bodies(std::string(k_sphere) + R"(,
+    {"name": "B", "shape": {"type": "ellipsoid", "axes": [1, 2, 3]},
+     "pose": {"position": [5, 0, 0], "quaternion": [0, 0, 0, 1]},
+     "motion": {"type": "twist", "velocity": [1, 2, 3], "angular_velocity": [0, 0, 0.5]}})"),
+                                     "scene.json");
+  ASSERT_EQ(scene.bodies.size(), 2u);
+  EXPECT_EQ(scene.step_count(), 11);
+  const Motion& m = scene.bodies[1].motion;
+  const Rigid_pose_3 p = m.pose_at(2.0);
+  EXPECT_NEAR((p.translation() - Vec3(7, 4, 6)).norm(), 0.0, 1e-14);
+  // R(t) = exp([w] t) R0 with R0 = rotation by pi about z.
+  const Mat3 expected = Eigen::AngleAxisd(1.0 + M_PI, Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_NEAR((p.rotation() - expected).norm(), 0.0, 1e-12);
+  EXPECT_EQ(m.twist_at(0.3).linear, Vec3(1, 2, 3));
+  EXPECT_EQ(scene.pairs.size(), 1u);  // "all" by default
+}
+
+TEST(Scene, KeyframesInterpolateAndHoldOutside) {
+  const double s = std::sqrt(0.5);
+  const auto scene = io::parse_scene(
+      with_bodies(R"({"name": "A", "shape": {"type": "point"}, "motion": {"type": "keyframes",
+        "keyframes": [{"t": 1, "position": [0, 0, 0], "quaternion": [1, 0, 0, 0]},
+                      {"t": 3, "position": [4, 0, 2], "quaternion": [)" +
+                  std::to_string(s) + ", 0, 0, " + std::to_string(s) + R"(]}]}})"),
+      "scene.json");
+  const Motion& m = scene.bodies[0].motion;
+  EXPECT_NEAR((m.pose_at(0.0).translation()).norm(), 0.0, 0.0);
+  EXPECT_NEAR((m.pose_at(2.0).translation() - Vec3(2, 0, 1)).norm(), 0.0, 1e-14);
+  // Halfway: rotation by pi/4 about z (slerp).
+  const Mat3 half = Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_NEAR((m.pose_at(2.0).rotation() - half).norm(), 0.0, 1e-6);
+  EXPECT_NEAR((m.pose_at(5.0).translation() - Vec3(4, 0, 2)).norm(), 0.0, 1e-14);
+  EXPECT_NEAR((m.twist_at(2.0).angular - Vec3(0, 0, M_PI / 4)).norm(), 0.0, 1e-6);
+  EXPECT_TRUE(m.twist_at(4.0).is_zero());
+}
+
+TEST(Scene, TableMotionReadsPosesRelativeToTheScene) {
+  const auto dir = std::filesystem::temp_directory_path() / "extremal_scene_test";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir / "poses.csv");
+    f << "t,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n1,1,0,0,1,0,0,0\n2,1,1,0,1,0,0,0\n";
+  }
+  {
+    std::ofstream f(dir / "scene.json");
+    f << with_bodies(R"({"name": "A", "shape": {"type": "point"},
+                         "motion": {"type": "table", "file": "poses.csv"}})");
+  }
+  const auto scene = io::read_scene((dir / "scene.json").string());
+  const Motion& m = scene.bodies[0].motion;
+  EXPECT_NEAR((m.pose_at(1.5).translation() - Vec3(1, 0.5, 0)).norm(), 0.0, 1e-14);
+  EXPECT_NEAR((m.twist_at(0.5).linear - Vec3(1, 0, 0)).norm(), 0.0, 1e-14);
+}
+
+TEST(Scene, ErrorsNameThePathAndTheReason) {
+  expect_error(with_bodies(R"({"name": "A", "shape": {"type": "point"}, "motion": {"type": "keyframes",
+      "keyframes": [{"t": 1, "position": [0,0,0]}, {"t": 1, "position": [1,0,0]}]}})"),
+               "bodies[0].motion.keyframes[1].t: times must increase");
+  expect_error(with_bodies(R"({"name": "A", "shape": {"type": "sphere", "radius": 1}, "colour": 3})"),
+               "bodies[0].colour: unknown key");
+  expect_error(with_bodies(R"({"name": "A", "shape": {"type": "sphere", "radius": -1}})"),
+               "bodies[0].shape.radius: must be > 0");
+  expect_error(with_bodies(R"({"name": "A", "shape": {"type": "cube", "size": 1}})"),
+               "bodies[0].shape.type: unknown shape type 'cube'");
+  expect_error(with_bodies(R"({"name": "A", "shape": {"type": "point"},
+      "pose": {"quaternion": [1, 1, 0, 0]}})"),
+               "bodies[0].pose.quaternion: not a unit quaternion");
+  expect_error(with_bodies(k_sphere, R"(, "pairs": [["A", "B"]])"), "pairs[0][1]: no body named 'B'");
+  expect_error(with_bodies(std::string(k_sphere) + "," + k_sphere), "bodies[1].name: duplicate body name");
+  expect_error(with_bodies(R"({"name": "A", "file": "missing.step"})"), "bodies[0].file");
+  expect_error(with_bodies(R"({"name": "A", "shape": {"type": "point"}, "motion": {"type": "table", "file": "nope.csv"}})"),
+               "bodies[0].motion.file: cannot open pose table");
+  expect_error(R"({"time": {"end": 1, "step": 0}, "bodies": []})", "time.step: must be > 0");
+  expect_error(R"({"time": {"end": 1, "step": 0.1}})", "missing key 'bodies'");
+  expect_error(with_bodies(k_sphere, R"(, "tracker": {"gain": 10, "substep": 2})"),
+               "tracker.substep: unknown key");
+  expect_error("{not json", "not valid JSON");
+  expect_error(with_bodies(k_sphere, R"(, "units": "furlong")"), "units: unknown unit 'furlong'");
+}
+
+TEST(Scene, MissingSceneFileNamesThePath) {
+  try {
+    io::read_scene("/nonexistent/dir/scene.json");
+    FAIL();
+  } catch (const Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/scene.json"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace extremal
