@@ -1,0 +1,853 @@
+#include "algorithms/Global_distance.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include "algorithms/internal/Bezier_net.h"
+#include "kernel/Error.h"
+#include "kernel/Nurbs_refinement.h"
+
+namespace extremal {
+
+const char* to_string(Element_kind k) {
+  switch (k) {
+    case Element_kind::Face: return "face";
+    case Element_kind::Curve: return "curve";
+    case Element_kind::Point: return "point";
+  }
+  return "?";
+}
+
+const char* to_string(Distance_status s) {
+  switch (s) {
+    case Distance_status::Converged: return "converged";
+    case Distance_status::Intersecting: return "intersecting";
+    case Distance_status::Touching: return "touching";
+    case Distance_status::Budget_exhausted: return "budget_exhausted";
+    case Distance_status::Resolution_limit: return "resolution_limit";
+  }
+  return "?";
+}
+
+// ---- Distance_hierarchy ---------------------------------------------------------------------
+
+namespace {
+
+Bbox_3 box_of(const Eigen::Vector4d* h, int n) {
+  Bbox_3 b;
+  for (int k = 0; k < n; ++k) {
+    const Vec3 c = h[k].head<3>() / h[k][3];
+    b += Bbox_3(c.x(), c.y(), c.z(), c.x(), c.y(), c.z());
+  }
+  return b;
+}
+
+Vec3 box_centre(const Bbox_3& b) {
+  return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()),
+              0.5 * (b.zmin() + b.zmax()));
+}
+
+double box_half_diagonal(const Bbox_3& b) {
+  return 0.5 * Vec3(b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()).norm();
+}
+
+}  // namespace
+
+Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
+  if (body.is_empty())
+    throw Invalid_input("body '" + body.name + "' has no point, face or curve to measure from");
+  auto add_piece = [&](int element, int dim, int nu, int nv, const double lo[2],
+                       const double hi[2], const auto& hom) {
+    Piece p;
+    p.element = element;
+    p.dimension = dim;
+    p.nu = nu;
+    p.nv = nv;
+    p.lo[0] = lo[0];
+    p.lo[1] = lo[1];
+    p.hi[0] = hi[0];
+    p.hi[1] = hi[1];
+    p.offset = static_cast<int>(m_poles.size());
+    m_poles.insert(m_poles.end(), hom.begin(), hom.end());
+    p.box = box_of(m_poles.data() + p.offset, nu * nv);
+    m_pieces.push_back(p);
+  };
+  if (body.is_point) {
+    Element e;
+    e.kind = Element_kind::Point;
+    e.index = 0;
+    e.feature = Feature::point(Vec3::Zero());
+    m_elements.push_back(e);
+    const double zero[2] = {0.0, 0.0};
+    const std::vector<Eigen::Vector4d> one = {Eigen::Vector4d(0, 0, 0, 1)};
+    add_piece(0, 0, 1, 1, zero, zero, one);
+  }
+  for (std::size_t i = 0; i < body.faces.size(); ++i) {
+    const Nurbs_surface_3& s = body.faces[i].surface;
+    if (s.degree_u() + 1 > internal::k_max_net_side || s.degree_v() + 1 > internal::k_max_net_side) {
+      std::ostringstream os;
+      os << "body '" << body.name << "' face " << i << ": degree " << s.degree_u() << " x "
+         << s.degree_v() << " is above the global distance solver's limit of "
+         << internal::k_max_net_side - 1;
+      throw Invalid_input(os.str());
+    }
+    m_surfaces.push_back(std::make_unique<Nurbs_surface_3>(s));
+    Element e;
+    e.kind = Element_kind::Face;
+    e.index = static_cast<int>(i);
+    e.feature = Feature::surface(*m_surfaces.back());
+    const int element = static_cast<int>(m_elements.size());
+    m_elements.push_back(e);
+    const Bezier_patches bp = extract_bezier(s);
+    for (const Nurbs_surface_3& piece : bp.patches) {
+      const double lo[2] = {piece.u_min(), piece.v_min()};
+      const double hi[2] = {piece.u_max(), piece.v_max()};
+      add_piece(element, 2, piece.degree_u() + 1, piece.degree_v() + 1, lo, hi,
+                piece.homogeneous_poles());
+    }
+  }
+  for (std::size_t i = 0; i < body.curves.size(); ++i) {
+    const Nurbs_curve_3& c = body.curves[i];
+    if (c.degree() + 1 > internal::k_max_net_side) {
+      std::ostringstream os;
+      os << "body '" << body.name << "' curve " << i << ": degree " << c.degree()
+         << " is above the global distance solver's limit of " << internal::k_max_net_side - 1;
+      throw Invalid_input(os.str());
+    }
+    m_curves.push_back(std::make_unique<Nurbs_curve_3>(c));
+    Element e;
+    e.kind = Element_kind::Curve;
+    e.index = static_cast<int>(i);
+    e.feature = Feature::curve(*m_curves.back());
+    const int element = static_cast<int>(m_elements.size());
+    m_elements.push_back(e);
+    for (const Nurbs_curve_3& piece : extract_bezier(c)) {
+      const double lo[2] = {piece.domain_min(), 0.0};
+      const double hi[2] = {piece.domain_max(), 0.0};
+      add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
+    }
+  }
+  std::vector<int> ids(m_pieces.size());
+  std::iota(ids.begin(), ids.end(), 0);
+  m_tree.reserve(2 * m_pieces.size());
+  build_tree(ids, 0, static_cast<int>(ids.size()));
+}
+
+int Distance_hierarchy::build_tree(std::vector<int>& ids, int begin, int end) {
+  const int index = static_cast<int>(m_tree.size());
+  m_tree.emplace_back();
+  Bbox_3 box, centres;
+  for (int k = begin; k < end; ++k) {
+    box += m_pieces[ids[k]].box;
+    const Vec3 c = box_centre(m_pieces[ids[k]].box);
+    centres += Bbox_3(c.x(), c.y(), c.z(), c.x(), c.y(), c.z());
+  }
+  m_tree[index].box = box;
+  m_tree[index].centre = box_centre(box);
+  m_tree[index].radius = box_half_diagonal(box);
+  if (end - begin == 1) {
+    m_tree[index].piece = ids[begin];
+    return index;
+  }
+  int axis = 0;
+  const double ext[3] = {centres.xmax() - centres.xmin(), centres.ymax() - centres.ymin(),
+                         centres.zmax() - centres.zmin()};
+  if (ext[1] > ext[axis]) axis = 1;
+  if (ext[2] > ext[axis]) axis = 2;
+  const int mid = (begin + end) / 2;
+  std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int b) {
+    return box_centre(m_pieces[a].box)[axis] < box_centre(m_pieces[b].box)[axis];
+  });
+  const int left = build_tree(ids, begin, mid);
+  const int right = build_tree(ids, mid, end);
+  m_tree[index].left = left;
+  m_tree[index].right = right;
+  return index;
+}
+
+// ---- Workspace ------------------------------------------------------------------------------
+
+namespace internal {
+
+// A node of one side's search tree during a query: a group of the hierarchy's tree, or a Bezier
+// sub-piece with its control net placed in the world.
+struct Live_node {
+  int tree = -1;  // >= 0: a group node of the hierarchy (no net)
+  int element = -1;
+  int dim = 0, nu = 1, nv = 1;
+  int offset = -1;  // first pole in the side's pools
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  Vec3 bmin = Vec3::Zero(), bmax = Vec3::Zero(), centre = Vec3::Zero();
+  double radius = 0.0;
+  double size = 0.0;  // box diagonal
+  int child[2] = {-1, -1};
+  int depth = 0;
+  bool is_net() const { return tree < 0; }
+  int count() const { return nu * nv; }
+};
+
+struct Pair_entry {
+  double lower;
+  int a, b;
+};
+
+struct Known_solution {
+  int ea, eb;
+  Vec4 params;
+};
+
+struct Side_pools {
+  std::vector<Live_node> nodes;
+  std::vector<Hom, Eigen::aligned_allocator<Hom>> hom;
+  std::vector<Vec3> cart;
+  void clear() {
+    nodes.clear();
+    hom.clear();
+    cart.clear();
+  }
+};
+
+struct Distance_scratch {
+  Side_pools side[2];
+  std::vector<Pair_entry> heap;
+  std::vector<Known_solution> solutions;
+};
+
+}  // namespace internal
+
+Distance_workspace::Distance_workspace() : m_scratch(std::make_unique<internal::Distance_scratch>()) {}
+Distance_workspace::~Distance_workspace() = default;
+Distance_workspace::Distance_workspace(Distance_workspace&&) noexcept = default;
+Distance_workspace& Distance_workspace::operator=(Distance_workspace&&) noexcept = default;
+
+// ---- The branch and bound -------------------------------------------------------------------
+
+namespace {
+
+using internal::Hom;
+using internal::Live_node;
+using internal::Pair_entry;
+using internal::Side_pools;
+
+constexpr double k_prune = 0.999;
+
+struct Heap_order {
+  bool operator()(const Pair_entry& x, const Pair_entry& y) const { return x.lower > y.lower; }
+};
+
+// One side of the query: a hierarchy placed by a pose, with its live nodes.
+struct Side {
+  const Distance_hierarchy* h;
+  const Rigid_pose_3* X;
+  Side_pools* pools;
+
+  int new_node() {
+    pools->nodes.emplace_back();
+    return static_cast<int>(pools->nodes.size()) - 1;
+  }
+
+  void finish_net(int index) {
+    Live_node& n = pools->nodes[index];
+    internal::net_bounds(pools->hom.data() + n.offset, n.count(), pools->cart.data() + n.offset,
+                         n.bmin, n.bmax, n.centre, n.radius);
+    n.size = (n.bmax - n.bmin).norm();
+  }
+
+  int make_from_tree(int tree_index, int depth) {
+    const Distance_hierarchy::Tree_node& tn = h->tree()[tree_index];
+    const int index = new_node();
+    if (tn.piece < 0) {
+      Live_node& n = pools->nodes[index];
+      n.tree = tree_index;
+      n.depth = depth;
+      const Bbox_3 wb = transformed(tn.box, *X);
+      n.bmin = Vec3(wb.xmin(), wb.ymin(), wb.zmin());
+      n.bmax = Vec3(wb.xmax(), wb.ymax(), wb.zmax());
+      n.centre = X->apply_point(tn.centre);
+      n.radius = tn.radius;
+      n.size = (n.bmax - n.bmin).norm();
+      return index;
+    }
+    const Distance_hierarchy::Piece& p = h->pieces()[tn.piece];
+    const int count = p.nu * p.nv;
+    const int offset = static_cast<int>(pools->hom.size());
+    pools->hom.resize(offset + count);
+    pools->cart.resize(offset + count);
+    const Mat3& R = X->rotation();
+    const Vec3& t = X->translation();
+    const Eigen::Vector4d* src = h->poles() + p.offset;
+    for (int k = 0; k < count; ++k) {
+      Hom& q = pools->hom[offset + k];
+      q.head<3>() = R * src[k].head<3>() + src[k][3] * t;
+      q[3] = src[k][3];
+    }
+    Live_node& n = pools->nodes[index];
+    n.element = p.element;
+    n.dim = p.dimension;
+    n.nu = p.nu;
+    n.nv = p.nv;
+    n.offset = offset;
+    n.lo[0] = p.lo[0];
+    n.lo[1] = p.lo[1];
+    n.hi[0] = p.hi[0];
+    n.hi[1] = p.hi[1];
+    n.depth = depth;
+    finish_net(index);
+    return index;
+  }
+
+  // Direction a net is halved in: the one whose control polygon is longer.
+  int split_direction(const Live_node& n) const {
+    if (n.dim < 2) return 0;
+    const Vec3* c = pools->cart.data() + n.offset;
+    double eu = 0.0, ev = 0.0;
+    for (int j = 0; j < n.nv; ++j) eu = std::max(eu, (c[(n.nu - 1) * n.nv + j] - c[j]).squaredNorm());
+    for (int i = 0; i < n.nu; ++i)
+      ev = std::max(ev, (c[i * n.nv + n.nv - 1] - c[i * n.nv]).squaredNorm());
+    if (eu == ev) return (n.hi[0] - n.lo[0]) >= (n.hi[1] - n.lo[1]) ? 0 : 1;
+    return eu > ev ? 0 : 1;
+  }
+
+  bool splittable(const Live_node& n, double resolution) const {
+    if (!n.is_net()) return true;
+    if (n.dim == 0 || n.size <= resolution) return false;
+    const int dir = split_direction(n);
+    const double lo = n.lo[dir], hi = n.hi[dir];
+    const double mid = 0.5 * (lo + hi);
+    return mid > lo && mid < hi;
+  }
+
+  // Children of node `index`, made on first use.
+  void children(int index, int& c0, int& c1) {
+    if (pools->nodes[index].child[0] >= 0) {
+      c0 = pools->nodes[index].child[0];
+      c1 = pools->nodes[index].child[1];
+      return;
+    }
+    const Live_node parent = pools->nodes[index];  // copy: the vectors grow below
+    if (!parent.is_net()) {
+      const Distance_hierarchy::Tree_node& tn = h->tree()[parent.tree];
+      c0 = make_from_tree(tn.left, parent.depth + 1);
+      c1 = make_from_tree(tn.right, parent.depth + 1);
+    } else {
+      const int dir = split_direction(parent);
+      const int count = parent.count();
+      const int off0 = static_cast<int>(pools->hom.size());
+      pools->hom.resize(off0 + 2 * count);
+      pools->cart.resize(off0 + 2 * count);
+      internal::split_net_half(pools->hom.data() + parent.offset, parent.nu, parent.nv, dir,
+                               pools->hom.data() + off0, pools->hom.data() + off0 + count);
+      const double mid = 0.5 * (parent.lo[dir] + parent.hi[dir]);
+      for (int half = 0; half < 2; ++half) {
+        const int ci = new_node();
+        Live_node& c = pools->nodes[ci];
+        c = parent;
+        c.child[0] = c.child[1] = -1;
+        c.depth = parent.depth + 1;
+        c.offset = off0 + half * count;
+        if (half == 0)
+          c.hi[dir] = mid;
+        else
+          c.lo[dir] = mid;
+        finish_net(ci);
+        (half == 0 ? c0 : c1) = ci;
+      }
+    }
+    pools->nodes[index].child[0] = c0;
+    pools->nodes[index].child[1] = c1;
+  }
+
+  const Vec3* cart(const Live_node& n) const { return pools->cart.data() + n.offset; }
+};
+
+struct Witness {
+  double distance = HUGE_VAL;
+  Vec3 pa = Vec3::Zero(), pb = Vec3::Zero();
+  int ea = -1, eb = -1;
+  double qa[2] = {0, 0}, qb[2] = {0, 0};
+};
+
+int corner_count(const Live_node& n) { return n.dim == 0 ? 1 : n.dim == 1 ? 2 : 4; }
+
+// Corner k of a net: its pole index and parameters (corners of a Bezier net lie on the piece).
+int corner(const Live_node& n, int k, double q[2]) {
+  const int iu = (k & 1) ? n.nu - 1 : 0;
+  const int iv = (k & 2) ? n.nv - 1 : 0;
+  q[0] = (k & 1) ? n.hi[0] : n.lo[0];
+  q[1] = (k & 2) ? n.hi[1] : n.lo[1];
+  return iu * n.nv + iv;
+}
+
+class Solver {
+ public:
+  Solver(const Distance_hierarchy& A, const Rigid_pose_3& X_WA, const Distance_hierarchy& B,
+         const Rigid_pose_3& X_WB, const Distance_request& request,
+         internal::Distance_scratch& scratch)
+      : m_req(request), m_scratch(scratch) {
+    m_side[0] = Side{&A, &X_WA, &scratch.side[0]};
+    m_side[1] = Side{&B, &X_WB, &scratch.side[1]};
+  }
+
+  Distance_result run();
+
+ private:
+  double lower_bound(const Live_node& a, const Live_node& b, double cutoff) const;
+  void corner_candidates(const Live_node& a, const Live_node& b);
+  void polish(const Live_node& a, const Live_node& b);
+  bool try_intersection(int ea, int eb, Vec4 x);
+  bool try_intersection(const Live_node& a, const Live_node& b);
+  void offer(double dist, const Vec3& pa, const Vec3& pb, int ea, const double* qa, int eb,
+             const double* qb);
+  double tolerance() const {
+    const double rel = std::isfinite(m_best.distance) ? m_req.relative_tolerance * m_best.distance
+                                                      : 0.0;
+    return std::max({m_req.absolute_tolerance, rel, m_resolution});
+  }
+  const Feature& feature(int side, int element) const {
+    return m_side[side].h->elements()[element].feature;
+  }
+  bool inside_known_solution(const Live_node& a, const Live_node& b) const;
+  void classify_meeting();
+  void fill(Distance_result& r) const;
+
+  const Distance_request& m_req;
+  internal::Distance_scratch& m_scratch;
+  Side m_side[2];
+  Witness m_best;
+  Vec3 m_axis = Vec3::Zero();
+  bool m_have_axis = false;
+  double m_resolution = 0.0;
+  bool m_met = false;  // a common point was found
+  bool m_transversal = false;
+  Vec3 m_meet_normal = Vec3::Zero();
+  int m_newton_runs = 0;
+  int m_intersection_attempts = 0;
+};
+
+double Solver::lower_bound(const Live_node& a, const Live_node& b, double cutoff) const {
+  double L = internal::box_distance(a.bmin, a.bmax, b.bmin, b.bmax);
+  if (L >= cutoff) return L;
+  L = std::max(L, (a.centre - b.centre).norm() - a.radius - b.radius);
+  if (L >= cutoff || !a.is_net() || !b.is_net()) return L;
+  const Vec3* ca = m_side[0].cart(a);
+  const Vec3* cb = m_side[1].cart(b);
+  if (m_have_axis) {
+    L = std::max(L, internal::axis_gap(ca, a.count(), cb, b.count(), m_axis));
+    if (L >= cutoff) return L;
+  }
+  const Vec3 e = b.centre - a.centre;
+  const double len = e.norm();
+  if (len > 0.0) L = std::max(L, internal::axis_gap(ca, a.count(), cb, b.count(), e / len));
+  return L;
+}
+
+void Solver::offer(double dist, const Vec3& pa, const Vec3& pb, int ea, const double* qa, int eb,
+                   const double* qb) {
+  if (!(dist < m_best.distance)) return;
+  m_best.distance = dist;
+  m_best.pa = pa;
+  m_best.pb = pb;
+  m_best.ea = ea;
+  m_best.eb = eb;
+  m_best.qa[0] = qa[0];
+  m_best.qa[1] = qa[1];
+  m_best.qb[0] = qb[0];
+  m_best.qb[1] = qb[1];
+  if (dist > m_resolution) {
+    m_axis = (pb - pa) / dist;
+    m_have_axis = true;
+  }
+}
+
+void Solver::corner_candidates(const Live_node& a, const Live_node& b) {
+  const Vec3* ca = m_side[0].cart(a);
+  const Vec3* cb = m_side[1].cart(b);
+  double best = HUGE_VAL;
+  int bi = 0, bj = 0;
+  for (int i = 0; i < corner_count(a); ++i) {
+    double q[2];
+    const Vec3& p = ca[corner(a, i, q)];
+    for (int j = 0; j < corner_count(b); ++j) {
+      const double d2 = (cb[corner(b, j, q)] - p).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        bi = i;
+        bj = j;
+      }
+    }
+  }
+  double qa[2], qb[2];
+  const Vec3 pa = ca[corner(a, bi, qa)];
+  const Vec3 pb = cb[corner(b, bj, qb)];
+  offer(std::sqrt(best), pa, pb, a.element, qa, b.element, qb);
+}
+
+bool Solver::inside_known_solution(const Live_node& a, const Live_node& b) const {
+  for (const auto& s : m_scratch.solutions) {
+    if (s.ea != a.element || s.eb != b.element) continue;
+    bool inside = true;
+    for (int k = 0; k < a.dim; ++k) inside = inside && s.params[k] >= a.lo[k] && s.params[k] <= a.hi[k];
+    for (int k = 0; k < b.dim; ++k)
+      inside = inside && s.params[a.dim + k] >= b.lo[k] && s.params[a.dim + k] <= b.hi[k];
+    if (inside) return true;
+  }
+  return false;
+}
+
+void Solver::polish(const Live_node& a, const Live_node& b) {
+  if (!m_req.newton_polish || inside_known_solution(a, b)) return;
+  const Feature& fa = feature(0, a.element);
+  const Feature& fb = feature(1, b.element);
+  Vec4 start = Vec4::Zero();
+  for (int k = 0; k < a.dim; ++k) start[k] = 0.5 * (a.lo[k] + a.hi[k]);
+  for (int k = 0; k < b.dim; ++k) start[a.dim + k] = 0.5 * (b.lo[k] + b.hi[k]);
+  const Posed_feature pa{&fa, m_side[0].X, nullptr}, pb{&fb, m_side[1].X, nullptr};
+  Newton_options opt;
+  opt.max_iterations = 30;
+  ++m_newton_runs;
+  const Newton_result r = solve_pair_at_rest(pa, pb, start, opt);
+  if (!r.params.allFinite()) return;
+  Feature_point xa, xb;
+  evaluate_feature(fa, *m_side[0].X, r.params.data(), xa, 0);
+  evaluate_feature(fb, *m_side[1].X, r.params.data() + a.dim, xb, 0);
+  const double d = (xb.p - xa.p).norm();
+  if (r.converged) m_scratch.solutions.push_back({a.element, b.element, r.params});
+  if (!std::isfinite(d)) return;
+  double qa[2] = {0, 0}, qb[2] = {0, 0};
+  for (int k = 0; k < a.dim; ++k) qa[k] = r.params[k];
+  for (int k = 0; k < b.dim; ++k) qb[k] = r.params[a.dim + k];
+  offer(d, xa.p, xb.p, a.element, qa, b.element, qb);
+}
+
+// Gauss-Newton on f(x_A) = h(x_B) from the centres of the two nodes: a common point ends the
+// query with distance 0.
+bool Solver::try_intersection(const Live_node& a, const Live_node& b) {
+  Vec4 x = Vec4::Zero();
+  for (int k = 0; k < a.dim; ++k) x[k] = 0.5 * (a.lo[k] + a.hi[k]);
+  for (int k = 0; k < b.dim; ++k) x[a.dim + k] = 0.5 * (b.lo[k] + b.hi[k]);
+  return try_intersection(a.element, b.element, x);
+}
+
+bool Solver::try_intersection(int ea, int eb, Vec4 x) {
+  ++m_intersection_attempts;
+  const Feature& fa = feature(0, ea);
+  const Feature& fb = feature(1, eb);
+  const int na = fa.dimension(), nb = fb.dimension(), n = na + nb;
+  if (n == 0) return false;
+  Vec4 max_step = Vec4::Zero();
+  for (int k = 0; k < na; ++k) max_step[k] = 0.25 * (fa.upper(k) - fa.lower(k));
+  for (int k = 0; k < nb; ++k) max_step[na + k] = 0.25 * (fb.upper(k) - fb.lower(k));
+  Feature_point xa, xb;
+  double last = HUGE_VAL;
+  int stalls = 0;
+  for (int it = 0; it < 40; ++it) {
+    keep_in_domain(fa, fb, x);
+    evaluate_feature(fa, *m_side[0].X, x.data(), xa, 1);
+    evaluate_feature(fb, *m_side[1].X, x.data() + na, xb, 1);
+    const Vec3 d = xa.p - xb.p;
+    const double dn = d.norm();
+    if (dn <= m_resolution) {
+      double qa[2] = {x[0], na > 1 ? x[1] : 0.0}, qb[2] = {x[na], nb > 1 ? x[na + 1] : 0.0};
+      if (na == 0) qa[0] = 0.0;
+      if (nb == 0) qb[0] = qb[1] = 0.0;
+      const Vec3 mid = 0.5 * (xa.p + xb.p);
+      m_best.distance = 0.0;
+      m_best.pa = m_best.pb = mid;
+      m_best.ea = ea;
+      m_best.eb = eb;
+      m_best.qa[0] = qa[0];
+      m_best.qa[1] = qa[1];
+      m_best.qb[0] = qb[0];
+      m_best.qb[1] = qb[1];
+      m_met = true;
+      return true;
+    }
+    if (dn > 0.999 * last) {
+      if (++stalls >= 3) return false;
+    } else {
+      stalls = 0;
+    }
+    last = std::min(last, dn);
+    Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 4> J(3, n);
+    for (int k = 0; k < na; ++k) J.col(k) = xa.d[k];
+    for (int k = 0; k < nb; ++k) J.col(na + k) = -xb.d[k];
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1> s(n);
+    if (n >= 3) {  // minimum-norm step
+      Eigen::Matrix3d G = J * J.transpose();
+      G.diagonal().array() += 1e-14 * G.trace() + 1e-300;
+      s = -J.transpose() * G.ldlt().solve(d);
+    } else {  // least squares
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4> G = J.transpose() * J;
+      G.diagonal().array() += 1e-14 * G.trace() + 1e-300;
+      s = -G.ldlt().solve(J.transpose() * d);
+    }
+    if (!s.allFinite()) return false;
+    double scale = 1.0;
+    for (int k = 0; k < n; ++k)
+      if (std::abs(s[k]) > max_step[k] && max_step[k] > 0.0)
+        scale = std::min(scale, max_step[k] / std::abs(s[k]));
+    for (int k = 0; k < n; ++k) x[k] += scale * s[k];
+  }
+  return false;
+}
+
+// At a common point: transversal when the tangent spaces together span space (a crossing that
+// persists under perturbation), else touching; A's outward normal there when A is a surface.
+void Solver::classify_meeting() {
+  m_transversal = false;
+  m_meet_normal.setZero();
+  if (m_best.ea < 0 || m_best.eb < 0) return;
+  const Feature& fa = feature(0, m_best.ea);
+  const Feature& fb = feature(1, m_best.eb);
+  const int na = fa.dimension(), nb = fb.dimension();
+  Feature_point xa, xb;
+  evaluate_feature(fa, *m_side[0].X, m_best.qa, xa, 1);
+  evaluate_feature(fb, *m_side[1].X, m_best.qb, xb, 1);
+  if (na + nb >= 3) {
+    Eigen::Matrix3d G = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < na; ++k) G += xa.d[k].normalized() * xa.d[k].normalized().transpose();
+    for (int k = 0; k < nb; ++k) G += xb.d[k].normalized() * xb.d[k].normalized().transpose();
+    m_transversal = G.allFinite() && G.determinant() > 1e-9;
+  }
+  if (na == 2) {
+    const Vec3 nn = xa.d[0].cross(xa.d[1]) * fa.outward_sign();
+    if (nn.norm() > 0.0) m_meet_normal = nn.normalized();
+  }
+}
+
+void Solver::fill(Distance_result& r) const {
+  r.upper_bound = m_best.distance;
+  r.distance = m_best.distance;
+  r.point_a = m_best.pa;
+  r.point_b = m_best.pb;
+  const auto& ea = m_side[0].h->elements();
+  const auto& eb = m_side[1].h->elements();
+  if (m_best.ea >= 0) {
+    r.kind_a = ea[m_best.ea].kind;
+    r.element_a = ea[m_best.ea].index;
+    r.face_a = r.kind_a == Element_kind::Face ? r.element_a : -1;
+  }
+  if (m_best.eb >= 0) {
+    r.kind_b = eb[m_best.eb].kind;
+    r.element_b = eb[m_best.eb].index;
+    r.face_b = r.kind_b == Element_kind::Face ? r.element_b : -1;
+  }
+  r.params_a = {m_best.qa[0], m_best.qa[1]};
+  r.params_b = {m_best.qb[0], m_best.qb[1]};
+  if (m_best.distance > 0.0) r.normal = (m_best.pb - m_best.pa) / m_best.distance;
+  r.newton_runs = m_newton_runs;
+  r.intersection_attempts = m_intersection_attempts;
+  r.nodes_created = static_cast<long>(m_side[0].pools->nodes.size() + m_side[1].pools->nodes.size());
+}
+
+Distance_result Solver::run() {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  for (auto& s : m_scratch.side) s.clear();
+  m_scratch.heap.clear();
+  m_scratch.solutions.clear();
+
+  // Floating-point resolution of the scene: coordinates are good to a few ulps of their size.
+  const Bbox_3 wa = transformed(m_side[0].h->box(), *m_side[0].X);
+  const Bbox_3 wb = transformed(m_side[1].h->box(), *m_side[1].X);
+  double coord = 0.0;
+  for (const Bbox_3& b : {wa, wb})
+    for (int k = 0; k < 3; ++k) coord = std::max({coord, std::abs(b.min(k)), std::abs(b.max(k))});
+  m_resolution = 16.0 * std::numeric_limits<double>::epsilon() * std::max(coord, 1e-300);
+
+  Distance_result result;
+  auto& heap = m_scratch.heap;
+  const int ra = m_side[0].make_from_tree(0, 0);
+  const int rb = m_side[1].make_from_tree(0, 0);
+  heap.push_back({lower_bound(m_side[0].pools->nodes[ra], m_side[1].pools->nodes[rb], HUGE_VAL),
+                  ra, rb});
+  double dropped = HUGE_VAL;  // smallest bound among pruned and settled pairs
+  bool out_of_budget = false;
+  long pops = 0;
+
+  while (!heap.empty()) {
+    const Pair_entry top = heap.front();
+    // Prune against 0.999 of the tolerance so that rounding in upper - lower cannot push the
+    // final gap past it.
+    if (top.lower >= m_best.distance - k_prune * tolerance()) break;
+    if (static_cast<long>(m_side[0].pools->nodes.size() + m_side[1].pools->nodes.size()) >
+        m_req.max_nodes) {
+      out_of_budget = true;
+      break;
+    }
+    if (m_req.max_seconds > 0.0 && (pops & 63) == 0 &&
+        std::chrono::duration<double>(clock::now() - t0).count() > m_req.max_seconds) {
+      out_of_budget = true;
+      break;
+    }
+    std::pop_heap(heap.begin(), heap.end(), Heap_order());
+    heap.pop_back();
+    ++pops;
+    const Live_node a = m_side[0].pools->nodes[top.a];
+    const Live_node b = m_side[1].pools->nodes[top.b];
+    if (a.is_net() && b.is_net()) {
+      const double before = m_best.distance;
+      corner_candidates(a, b);
+      if (m_best.distance < before) polish(a, b);
+      if (top.lower <= m_resolution && m_best.distance > m_resolution &&
+          m_intersection_attempts < 64 && (a.depth + b.depth) % 3 == 0) {
+        if (try_intersection(a, b)) break;
+      }
+      if (m_best.distance <= m_resolution) break;
+    }
+    const bool sa = m_side[0].splittable(a, m_resolution);
+    const bool sb = m_side[1].splittable(b, m_resolution);
+    if (!sa && !sb) {
+      dropped = std::min(dropped, top.lower);
+      continue;
+    }
+    const int which = (sa && (!sb || a.size >= b.size)) ? 0 : 1;
+    int c[2];
+    m_side[which].children(which == 0 ? top.a : top.b, c[0], c[1]);
+    for (int k = 0; k < 2; ++k) {
+      const int ia = which == 0 ? c[k] : top.a;
+      const int ib = which == 1 ? c[k] : top.b;
+      const double cutoff = m_best.distance - k_prune * tolerance();
+      const double L = std::max(
+          top.lower,
+          lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], cutoff));
+      if (L < cutoff) {
+        heap.push_back({L, ia, ib});
+        std::push_heap(heap.begin(), heap.end(), Heap_order());
+      } else {
+        dropped = std::min(dropped, L);
+      }
+    }
+  }
+  // Bounds that reach zero with a witness that does not: look for a common point from the
+  // witness, so that bodies that meet are never reported a rounding error apart.
+  if (!m_met && m_best.ea >= 0 && m_best.distance > m_resolution) {
+    double lower = std::min(dropped, m_best.distance);
+    if (!heap.empty()) lower = std::min(lower, heap.front().lower);
+    if (lower <= m_resolution) {
+      const int na = feature(0, m_best.ea).dimension();
+      Vec4 x = Vec4::Zero();
+      for (int k = 0; k < na; ++k) x[k] = m_best.qa[k];
+      for (int k = 0; k < feature(1, m_best.eb).dimension(); ++k) x[na + k] = m_best.qb[k];
+      try_intersection(m_best.ea, m_best.eb, x);
+    }
+  }
+  result.pairs_processed = pops;
+  fill(result);
+  if (m_met || m_best.distance <= m_resolution) {
+    // The bodies meet: report exactly zero, never a rounding-level positive number.
+    classify_meeting();
+    result.distance = result.upper_bound = result.lower_bound = 0.0;
+    const Vec3 mid = 0.5 * (m_best.pa + m_best.pb);
+    result.point_a = result.point_b = mid;
+    result.normal = m_meet_normal;
+    result.status = m_transversal ? Distance_status::Intersecting
+                                             : Distance_status::Touching;
+    result.tolerance_used = tolerance();
+    return result;
+  }
+  double lower = std::min(dropped, m_best.distance);
+  if (!heap.empty()) lower = std::min(lower, heap.front().lower);
+  result.lower_bound = std::max(0.0, lower);
+  result.tolerance_used = tolerance();
+  const double gap = result.upper_bound - result.lower_bound;
+  if (out_of_budget)
+    result.status = Distance_status::Budget_exhausted;
+  else if (gap <= result.tolerance_used)
+    result.status = Distance_status::Converged;
+  else
+    result.status = Distance_status::Resolution_limit;
+  return result;
+}
+
+}  // namespace
+
+Distance_result extremal_distance(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                  const Distance_hierarchy& B, const Rigid_pose_3& X_WB,
+                                  const Distance_request& request, Distance_workspace& workspace) {
+  EXTREMAL_PRECONDITION_MSG(request.absolute_tolerance >= 0.0 && request.relative_tolerance >= 0.0 &&
+                                (request.absolute_tolerance > 0.0 || request.relative_tolerance > 0.0),
+                            "tolerances must be >= 0 and not both 0, got absolute "
+                                << request.absolute_tolerance << ", relative "
+                                << request.relative_tolerance);
+  EXTREMAL_PRECONDITION_MSG(request.max_nodes > 0, "max_nodes must be > 0, got " << request.max_nodes);
+  EXTREMAL_PRECONDITION_MSG(request.max_seconds >= 0.0,
+                            "max_seconds must be >= 0, got " << request.max_seconds);
+  Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
+  return solver.run();
+}
+
+Distance_result extremal_distance(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                  const Distance_hierarchy& B, const Rigid_pose_3& X_WB,
+                                  const Distance_request& request) {
+  Distance_workspace ws;
+  return extremal_distance(A, X_WA, B, X_WB, request, ws);
+}
+
+Distance_result extremal_distance(const Body& A, const Rigid_pose_3& X_WA, const Body& B,
+                                  const Rigid_pose_3& X_WB, const Distance_request& request) {
+  const Distance_hierarchy ha(A), hb(B);
+  return extremal_distance(ha, X_WA, hb, X_WB, request);
+}
+
+// ---- Trackers -------------------------------------------------------------------------------
+
+namespace {
+
+Feature feature_of(const Body& body, Element_kind kind, int index, const char* which) {
+  switch (kind) {
+    case Element_kind::Point:
+      EXTREMAL_PRECONDITION_MSG(body.is_point, "body " << which << " '" << body.name
+                                                       << "' is not a point body");
+      return Feature::point(Vec3::Zero());
+    case Element_kind::Face:
+      EXTREMAL_PRECONDITION_MSG(index >= 0 && index < static_cast<int>(body.faces.size()),
+                                "body " << which << " '" << body.name << "' has no face " << index);
+      return Feature::surface(body.faces[index].surface);
+    case Element_kind::Curve:
+      EXTREMAL_PRECONDITION_MSG(index >= 0 && index < static_cast<int>(body.curves.size()),
+                                "body " << which << " '" << body.name << "' has no curve " << index);
+      return Feature::curve(body.curves[index]);
+  }
+  return Feature::point(Vec3::Zero());
+}
+
+}  // namespace
+
+Tracker_seed tracker_seed(const Body& A, const Body& B, const Distance_result& r) {
+  Tracker_seed s;
+  s.kind_a = r.kind_a;
+  s.kind_b = r.kind_b;
+  s.element_a = r.element_a;
+  s.element_b = r.element_b;
+  s.feature_a = feature_of(A, r.kind_a, r.element_a, "A");
+  s.feature_b = feature_of(B, r.kind_b, r.element_b, "B");
+  const int na = s.feature_a.dimension();
+  for (int k = 0; k < na; ++k) s.params[k] = r.params_a[k];
+  for (int k = 0; k < s.feature_b.dimension(); ++k) s.params[na + k] = r.params_b[k];
+  return s;
+}
+
+Audit_decision audit_tracked_pair(const Distance_result& global, double tracked_distance,
+                                  Element_kind kind_a, int element_a, Element_kind kind_b,
+                                  int element_b, double margin) {
+  Audit_decision d;
+  d.same_elements = global.kind_a == kind_a && global.element_a == element_a &&
+                    global.kind_b == kind_b && global.element_b == element_b;
+  d.improvement = tracked_distance - global.upper_bound;
+  const double tol = std::max(global.upper_bound - global.lower_bound, global.tolerance_used);
+  // The tracked pair is a real pair, so tracked_distance >= true minimum >= lower_bound. Re-seed
+  // when the certified minimum lies clearly below it, wherever the global witness is (a pair on
+  // the same elements can sit in another basin: another local minimum of the same faces).
+  d.reseed = d.improvement > tol + margin;
+  return d;
+}
+
+}  // namespace extremal

@@ -1,0 +1,214 @@
+// Certified global extremal distance between two posed bodies (branch and bound over Bezier
+// sub-patches, ../shared/DESIGN.md section 3).
+//
+// The distance is the minimum distance between the bodies' geometry (faces, curves, a point body's
+// origin), with a certificate: lower_bound <= true minimum <= upper_bound, where upper_bound is the
+// distance of a witness pair of points that lie on the bodies, and the gap upper - lower is within
+// the requested tolerance (status Converged) or the result says why not.
+//
+// Method. Every face and curve is cut into its Bezier pieces once, in the body frame, and the
+// pieces are put in a bounding-volume tree (Distance_hierarchy). A query places both trees in the
+// world and runs a best-first branch and bound over pairs of nodes:
+//   - lower bounds: the distance between the nodes' world boxes, and for two Bezier sub-patches
+//     the gap between the projections of their control points on a few axes (the witness normal,
+//     the line through their centroids). A rational patch with positive weights lies in the convex
+//     hull of its Cartesian control points, so both are certified;
+//   - upper bounds: on-surface corner points of the sub-patches, then a Newton polish of the pair
+//     (solve_pair_at_rest) on the whole face or curve whenever a pair beats the best so far;
+//   - the pair with the smallest lower bound is split (the larger node, in two, by de Casteljau
+//     in homogeneous coordinates), pairs whose bound cannot beat the best witness are pruned.
+// Intersections: when the bounds of a pair reach zero, a Gauss-Newton solve of f = h looks for a
+// common point; a found one ends the query with distance exactly 0 (status Intersecting, or
+// Touching when the surfaces are tangent there). A small positive number is never reported for
+// bodies that meet.
+//
+// Sub-nets made during a query live in a Distance_workspace whose buffers are kept between
+// queries, so repeated queries (an audit every N steps) do not allocate once warm.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "algorithms/Feature.h"
+#include "algorithms/Pair_geometry.h"
+#include "kernel/Body.h"
+#include "kernel/Rigid_pose_3.h"
+#include "kernel/Types.h"
+
+namespace extremal {
+
+// What part of a body a witness point lies on.
+enum class Element_kind { Face, Curve, Point };
+const char* to_string(Element_kind k);
+
+// The prepared form of a body for global distance queries: its faces' and curves' Bezier pieces
+// with their control nets and boxes in the body frame, and a bounding-volume tree over them.
+// Built once per body, reused for every pose and query; it owns copies of the geometry, so the
+// Body need not outlive it. Move-only (its features point into its own storage).
+class Distance_hierarchy {
+ public:
+  struct Element {
+    Element_kind kind = Element_kind::Face;
+    int index = -1;  // into Body::faces or Body::curves; 0 for the point of a point body
+    Feature feature = Feature::point(Vec3::Zero());  // refers to the geometry owned here
+  };
+  struct Piece {  // one Bezier piece, body frame
+    int element = -1;
+    int dimension = 2;    // 0 point, 1 curve, 2 surface
+    int nu = 1, nv = 1;   // control net size (degree + 1 per direction; 1 if unused)
+    double lo[2] = {0, 0}, hi[2] = {0, 0};  // parameter box
+    int offset = 0;       // first homogeneous pole in poles()
+    Bbox_3 box;           // of the Cartesian control points
+  };
+  struct Tree_node {
+    Bbox_3 box;            // body frame
+    Vec3 centre = Vec3::Zero();
+    double radius = 0.0;   // ball around centre that holds the box
+    int left = -1, right = -1;
+    int piece = -1;        // leaf: the piece it holds
+  };
+
+  // Throws Invalid_input for an empty body (no point, face or curve).
+  explicit Distance_hierarchy(const Body& body);
+  Distance_hierarchy(Distance_hierarchy&&) = default;
+  Distance_hierarchy& operator=(Distance_hierarchy&&) = default;
+  Distance_hierarchy(const Distance_hierarchy&) = delete;
+  Distance_hierarchy& operator=(const Distance_hierarchy&) = delete;
+
+  const std::string& name() const { return m_name; }
+  const std::vector<Element>& elements() const { return m_elements; }
+  const std::vector<Piece>& pieces() const { return m_pieces; }
+  const std::vector<Tree_node>& tree() const { return m_tree; }  // root at 0
+  const Eigen::Vector4d* poles() const { return m_poles.data(); }
+  // Box of all control points, body frame.
+  const Bbox_3& box() const { return m_tree.front().box; }
+
+ private:
+  int build_tree(std::vector<int>& piece_ids, int begin, int end);
+
+  std::string m_name;
+  // Owned geometry (Elements' features point here; unique_ptr keeps addresses stable).
+  std::vector<std::unique_ptr<Nurbs_surface_3>> m_surfaces;
+  std::vector<std::unique_ptr<Nurbs_curve_3>> m_curves;
+  std::vector<Element> m_elements;
+  std::vector<Piece> m_pieces;
+  std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> m_poles;
+  std::vector<Tree_node> m_tree;
+};
+
+struct Distance_request {
+  // Certificate: stop when upper - lower <= max(absolute_tolerance, relative_tolerance * upper).
+  // Tolerances below the floating-point resolution of the scene (about 1e-15 of the coordinates'
+  // size) are raised to it.
+  double absolute_tolerance = 1e-9;  // body units (mm for CAD files)
+  double relative_tolerance = 1e-9;
+  // Budget: live sub-patch nodes made in one query (memory grows with it, about 0.6 kB each)
+  // and wall time in seconds (0 = no time limit). Exhausting either returns the best bounds so
+  // far with status Budget_exhausted.
+  int max_nodes = 200000;
+  double max_seconds = 0.0;
+  // Polish witness candidates with Newton's method (off: corner points only; the bounds stay
+  // certified but converge slowly). For tests and benchmarks.
+  bool newton_polish = true;
+};
+
+enum class Distance_status {
+  Converged,         // upper - lower within the tolerance
+  Intersecting,      // the bodies cross: distance 0, point_a = point_b is a common point
+  Touching,          // a common point where the surfaces are tangent (or curves meet): distance 0
+  Budget_exhausted,  // node or time budget spent: best bounds so far
+  Resolution_limit,  // sub-patches reached floating-point size before the bounds met
+};
+const char* to_string(Distance_status s);
+
+struct Distance_result {
+  Distance_status status = Distance_status::Converged;
+  double distance = 0.0;     // the witness distance (= upper_bound), 0 when the bodies meet
+  double lower_bound = 0.0;  // certified: lower_bound <= true distance <= upper_bound
+  double upper_bound = 0.0;
+  Vec3 point_a = Vec3::Zero();  // witness on A, world
+  Vec3 point_b = Vec3::Zero();  // witness on B, world
+  // Unit normal from A to B: point_b - point_a = distance * normal. When the bodies meet:
+  // A's outward normal at the common point if A is a surface there, else zero.
+  Vec3 normal = Vec3::Zero();
+  Element_kind kind_a = Element_kind::Face, kind_b = Element_kind::Face;
+  int element_a = -1, element_b = -1;  // index into Body::faces / Body::curves (0 for a point)
+  int face_a = -1, face_b = -1;        // element index when the witness is on a face, else -1
+  std::array<double, 2> params_a{{0.0, 0.0}}, params_b{{0.0, 0.0}};  // witness parameters
+  // Work done: node pairs taken from the queue, sub-patch nodes made, Newton polishes run,
+  // intersection solves tried.
+  long pairs_processed = 0;
+  long nodes_created = 0;
+  int newton_runs = 0;
+  int intersection_attempts = 0;
+  double tolerance_used = 0.0;  // the effective max(absolute, relative * upper) at the end
+
+  bool is_certified() const { return status != Distance_status::Budget_exhausted &&
+                                     status != Distance_status::Resolution_limit; }
+};
+
+namespace internal {
+struct Distance_scratch;
+}
+
+// Buffers of the branch and bound, kept between queries (one per thread).
+class Distance_workspace {
+ public:
+  Distance_workspace();
+  ~Distance_workspace();
+  Distance_workspace(Distance_workspace&&) noexcept;
+  Distance_workspace& operator=(Distance_workspace&&) noexcept;
+  internal::Distance_scratch& scratch() { return *m_scratch; }
+
+ private:
+  std::unique_ptr<internal::Distance_scratch> m_scratch;
+};
+
+// The certified global distance between A placed by X_WA and B placed by X_WB. Throws
+// Precondition_violation on a non-positive tolerance or budget; numerical trouble is a status.
+[[nodiscard]] Distance_result extremal_distance(const Distance_hierarchy& A,
+                                                const Rigid_pose_3& X_WA,
+                                                const Distance_hierarchy& B,
+                                                const Rigid_pose_3& X_WB,
+                                                const Distance_request& request,
+                                                Distance_workspace& workspace);
+// One-shot conveniences (build a workspace, or the hierarchies too).
+[[nodiscard]] Distance_result extremal_distance(const Distance_hierarchy& A,
+                                                const Rigid_pose_3& X_WA,
+                                                const Distance_hierarchy& B,
+                                                const Rigid_pose_3& X_WB,
+                                                const Distance_request& request = {});
+[[nodiscard]] Distance_result extremal_distance(const Body& A, const Rigid_pose_3& X_WA,
+                                                const Body& B, const Rigid_pose_3& X_WB,
+                                                const Distance_request& request = {});
+
+// ---- Starting and auditing trackers --------------------------------------------------------
+
+// What an Extremal_tracker needs to start on the global pair: the two features (referring to
+// the geometry of the Body objects passed in, which must outlive them) and the parameters
+// [A's..., B's...].
+struct Tracker_seed {
+  Feature feature_a = Feature::point(Vec3::Zero());
+  Feature feature_b = Feature::point(Vec3::Zero());
+  Vec4 params = Vec4::Zero();
+  Element_kind kind_a = Element_kind::Point, kind_b = Element_kind::Point;
+  int element_a = -1, element_b = -1;
+};
+// Throws Precondition_violation if `result` does not refer to elements of A and B.
+Tracker_seed tracker_seed(const Body& A, const Body& B, const Distance_result& result);
+
+// Audit of a tracked pair against a global result at the same poses: re-seed when the global
+// minimum is on another element pair and beats the tracked distance by more than the global
+// certificate's tolerance (`margin` more, to avoid flip-flopping between near-equal minima).
+struct Audit_decision {
+  bool reseed = false;
+  bool same_elements = false;
+  double improvement = 0.0;  // tracked_distance - global upper bound
+};
+Audit_decision audit_tracked_pair(const Distance_result& global, double tracked_distance,
+                                  Element_kind kind_a, int element_a, Element_kind kind_b,
+                                  int element_b, double margin = 0.0);
+
+}  // namespace extremal
