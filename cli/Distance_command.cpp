@@ -1,13 +1,150 @@
-// `extremal distance A B`: one-shot certified extremal distance (issue: global solver).
+// `extremal distance A B [--pose-a P] [--pose-b P] [--tolerance E] [--json]`: one-shot certified
+// extremal distance (../shared/CLI.md). A and B are shape specs or files; a file that holds several
+// bodies counts as their union (the witness names the body it lies on).
+#include <cmath>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
+#include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "algorithms/Global_distance.h"
 #include "cli/Commands.h"
+#include "io/Shape_spec.h"
+#include "kernel/Error.h"
 
 namespace extremal::cli {
 
-int run_distance(const Distance_options&) {
-  std::cerr << "extremal distance: the certified global solver is not built yet\n";
-  return 1;
+namespace {
+
+// The bodies an argument names, each with its placement in the argument's frame.
+std::vector<Body> load_bodies(const std::string& target, const char* which) {
+  if (target.empty()) throw Invalid_input(std::string(which) + ": empty shape spec or file name");
+  if (io::is_shape_spec(target)) {
+    try {
+      std::vector<Body> out;
+      out.push_back(io::parse_shape_spec(target));
+      return out;
+    } catch (const Invalid_input& e) {
+      throw Invalid_input(std::string(which) + " '" + target + "': " + e.what());
+    }
+  }
+  throw Invalid_input(std::string(which) + " '" + target +
+                      "': cannot open file (CAD import is not built yet)");
+}
+
+Rigid_pose_3 load_pose(const std::string& text, const char* option) {
+  if (text.empty()) return Rigid_pose_3();
+  try {
+    return io::parse_pose(text);
+  } catch (const Invalid_input& e) {
+    throw Invalid_input(std::string(option) + " '" + text + "': " + e.what());
+  }
+}
+
+nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+struct Best {
+  Distance_result result;
+  std::size_t body_a = 0, body_b = 0;
+  double lower = HUGE_VAL;  // smallest lower bound over all body pairs
+  bool any = false;
+  bool all_certified = true;
+};
+
+}  // namespace
+
+int run_distance(const Distance_options& options) {
+  try {
+    if (!(std::isfinite(options.tolerance) && options.tolerance > 0.0)) {
+      std::ostringstream os;
+      os << "--tolerance: must be finite and > 0, got " << options.tolerance;
+      throw Invalid_input(os.str());
+    }
+    const std::vector<Body> bodies_a = load_bodies(options.a, "A");
+    const std::vector<Body> bodies_b = load_bodies(options.b, "B");
+    const Rigid_pose_3 X_WA = load_pose(options.pose_a, "--pose-a");
+    const Rigid_pose_3 X_WB = load_pose(options.pose_b, "--pose-b");
+
+    std::vector<Distance_hierarchy> ha, hb;
+    for (const Body& b : bodies_a) ha.emplace_back(b);
+    for (const Body& b : bodies_b) hb.emplace_back(b);
+
+    Distance_request request;
+    request.absolute_tolerance = options.tolerance;  // CLI.md: d within the tolerance
+    request.relative_tolerance = 0.0;
+    request.max_seconds = 60.0;
+    Distance_workspace ws;
+    Best best;
+    for (std::size_t i = 0; i < ha.size(); ++i)
+      for (std::size_t j = 0; j < hb.size(); ++j) {
+        const Rigid_pose_3 X_a = X_WA * bodies_a[i].placement;
+        const Rigid_pose_3 X_b = X_WB * bodies_b[j].placement;
+        const Distance_result r = extremal_distance(ha[i], X_a, hb[j], X_b, request, ws);
+        best.lower = std::min(best.lower, r.lower_bound);
+        best.all_certified = best.all_certified && r.is_certified();
+        if (!best.any || r.upper_bound < best.result.upper_bound) {
+          best.result = r;
+          best.body_a = i;
+          best.body_b = j;
+          best.any = true;
+        }
+      }
+    Distance_result r = best.result;
+    r.lower_bound = std::min(r.lower_bound, best.lower);
+    if (!best.all_certified && r.is_certified()) r.status = Distance_status::Budget_exhausted;
+
+    nlohmann::json j;
+    j["distance"] = r.distance;
+    j["lower_bound"] = r.lower_bound;
+    j["upper_bound"] = r.upper_bound;
+    j["point_a"] = vec_json(r.point_a);
+    j["point_b"] = vec_json(r.point_b);
+    j["normal"] = vec_json(r.normal);
+    j["face_a"] = r.face_a;
+    j["face_b"] = r.face_b;
+    j["status"] = to_string(r.status);
+    j["certified"] = r.is_certified();
+    j["body_a"] = bodies_a[best.body_a].name;
+    j["body_b"] = bodies_b[best.body_b].name;
+    j["element_a"] = {{"kind", to_string(r.kind_a)}, {"index", r.element_a},
+                      {"params", {r.params_a[0], r.params_a[1]}}};
+    j["element_b"] = {{"kind", to_string(r.kind_b)}, {"index", r.element_b},
+                      {"params", {r.params_b[0], r.params_b[1]}}};
+    j["tolerance"] = options.tolerance;
+    j["work"] = {{"pairs", r.pairs_processed},
+                 {"nodes", r.nodes_created},
+                 {"newton_runs", r.newton_runs},
+                 {"intersection_attempts", r.intersection_attempts}};
+    if (options.json) {
+      std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    std::cout << std::setprecision(17);
+    std::cout << "distance " << r.distance << "  (" << to_string(r.status) << ": " << r.lower_bound
+              << " <= d <= " << r.upper_bound << ")\n";
+    auto where = [](Element_kind k, int index, const std::array<double, 2>& q) {
+      std::ostringstream os;
+      os << std::setprecision(17) << to_string(k);
+      if (k != Element_kind::Point) os << " " << index << " at (" << q[0];
+      if (k == Element_kind::Face) os << ", " << q[1];
+      if (k != Element_kind::Point) os << ")";
+      return os.str();
+    };
+    std::cout << "point_a " << r.point_a.transpose() << "  on " << bodies_a[best.body_a].name
+              << " " << where(r.kind_a, r.element_a, r.params_a) << "\n";
+    std::cout << "point_b " << r.point_b.transpose() << "  on " << bodies_b[best.body_b].name
+              << " " << where(r.kind_b, r.element_b, r.params_b) << "\n";
+    std::cout << "normal  " << r.normal.transpose() << "\n";
+    return 0;
+  } catch (const Invalid_input& e) {
+    std::cerr << "extremal distance: " << e.what() << "\n";
+    return 1;
+  } catch (const Precondition_violation& e) {
+    std::cerr << "extremal distance: " << e.what() << "\n";
+    return 1;
+  }
 }
 
 }  // namespace extremal::cli
