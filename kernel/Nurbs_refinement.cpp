@@ -66,7 +66,9 @@ void insert_row(const std::vector<double>& knots, int p, const Hom* in, int n, d
       R[i] = alpha * R[i + 1] + (1.0 - alpha) * R[i];
     }
     out[L] = R[0];
-    out[k + times - j - s] = R[p - j - s];
+    // At a domain end the multiplicity may reach p + 1 (s + times = p + 1), beyond A5.1's
+    // s + times <= p: the last step then only duplicates R[0], and R[p - j - s] would be R[-1].
+    if (p - j - s >= 0) out[k + times - j - s] = R[p - j - s];
   }
   for (int i = L + 1; i < k - s; ++i) out[i] = R[i - L];
 }
