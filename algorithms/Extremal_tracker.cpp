@@ -21,22 +21,21 @@ const char* to_string(Track_status s) {
 
 Extremal_tracker::Extremal_tracker(const Feature& a, const Feature& b, const Vec4& initial,
                                    const Tracker_options& options)
-    : m_a(a), m_b(b), m_options(options), m_params(initial) {
+    : m_a(a), m_b(b), m_options(options), m_domain(Parameter_domain::of(a, b)),
+      m_params(initial) {
   EXTREMAL_PRECONDITION_MSG(options.gain.allFinite() && options.gain.minCoeff() >= 0.0,
                             "tracker gain must be finite and >= 0");
   EXTREMAL_PRECONDITION_MSG(options.substeps >= 1, "substeps must be >= 1");
   EXTREMAL_PRECONDITION_MSG(options.corrections >= 0, "corrections must be >= 0");
-  keep_in_domain(m_a, m_b, m_params);
+  m_domain.clamp(m_params);
   m_max_change.setConstant(std::numeric_limits<double>::infinity());
-  int k = 0;
-  for (const Feature* f : {&m_a, &m_b})
-    for (int i = 0; i < f->dimension(); ++i, ++k)
-      m_max_change[k] = k_max_change_fraction * (f->upper(i) - f->lower(i));
+  for (int k = 0; k < m_domain.n; ++k)
+    m_max_change[k] = k_max_change_fraction * (m_domain.upper[k] - m_domain.lower[k]);
 }
 
 void Extremal_tracker::reset(const Vec4& params) {
   m_params = params;
-  keep_in_domain(m_a, m_b, m_params);
+  m_domain.clamp(m_params);
 }
 
 bool Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3& V_A,
@@ -50,8 +49,8 @@ bool Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
     rhs[k] = k < n ? -K * m_system.phi[k] - m_system.motion[k] : 0.0;
   }
   Vec4 p = params;
-  const unsigned on_bound = keep_in_domain(m_a, m_b, p);
-  if (!solve_constrained(m_system.M, rhs, n, on_bound, lower_bound_mask(m_a, m_b, p), U,
+  const unsigned on_bound = m_domain.clamp(p);
+  if (!solve_constrained(m_system.M, rhs, n, on_bound, m_domain.lower_mask(p), U,
                          solve_mode_for(m_system)))
     return false;
   // Far from the pair a full Newton step can leap to another stationary pair; limit the
@@ -75,17 +74,17 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
         m_options.correction_tolerance)
       break;
     Vec4 x = m_params;
-    const unsigned on_bound = keep_in_domain(m_a, m_b, x);
+    const unsigned on_bound = m_domain.clamp(x);
     Vec4 step;
     ++done;
-    if (!solve_constrained(m_system.M, -m_system.phi, n, on_bound, lower_bound_mask(m_a, m_b, x),
+    if (!solve_constrained(m_system.M, -m_system.phi, n, on_bound, m_domain.lower_mask(x),
                            step, solve_mode_for(m_system)))
       break;
     double scale = 1.0;
     for (int k = 0; k < n; ++k)
       if (std::abs(step[k]) > m_max_change[k]) scale = std::min(scale, m_max_change[k] / std::abs(step[k]));
     m_params += scale * step;
-    keep_in_domain(m_a, m_b, m_params);
+    m_domain.clamp(m_params);
   }
   return done;
 }
@@ -143,19 +142,19 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
       const Rigid_pose_3 B1 = advance(X_WB, V_B, tau + h);
       Vec4 k2, k3, k4;
       Vec4 y = x + 0.5 * h * k1;
-      keep_in_domain(m_a, m_b, y);
+      m_domain.clamp(y);
       singular = !control(y, Ah, V_A, Bh, V_B, h, k2);
       y = x + 0.5 * h * k2;
-      keep_in_domain(m_a, m_b, y);
+      m_domain.clamp(y);
       singular = singular || !control(y, Ah, V_A, Bh, V_B, h, k3);
       y = x + h * k3;
-      keep_in_domain(m_a, m_b, y);
+      m_domain.clamp(y);
       singular = singular || !control(y, A1, V_A, B1, V_B, h, k4);
       solves += 3;
       if (singular) break;
       x += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    keep_in_domain(m_a, m_b, x);
+    m_domain.clamp(x);
   }
   if (singular) {
     // Keep the last good parameters and report the pair there.

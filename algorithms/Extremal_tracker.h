@@ -84,6 +84,7 @@ class Extremal_tracker {
 
   Feature m_a, m_b;
   Tracker_options m_options;
+  Parameter_domain m_domain;
   Vec4 m_params;
   Vec4 m_max_change;  // largest parameter change per step
   Pair_system m_system;

@@ -60,40 +60,48 @@ Vec4 normalised_projection_errors(const Pair_system& s) {
   return e;
 }
 
-unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params) {
+Parameter_domain Parameter_domain::of(const Feature& A, const Feature& B) {
+  Parameter_domain d;
+  for (const Feature* f : {&A, &B})
+    for (int i = 0; i < f->dimension(); ++i, ++d.n) {
+      d.lower[d.n] = f->lower(i);
+      d.upper[d.n] = f->upper(i);
+      if (f->is_closed(i)) d.closed |= 1u << d.n;
+    }
+  return d;
+}
+
+unsigned Parameter_domain::clamp(Vec4& params) const {
   unsigned mask = 0;
-  int k = 0;
-  for (const Feature* f : {&A, &B}) {
-    for (int i = 0; i < f->dimension(); ++i, ++k) {
-      const double lo = f->lower(i), hi = f->upper(i);
-      double& x = params[k];
-      if (!std::isfinite(x)) x = 0.5 * (lo + hi);
-      if (f->is_closed(i)) {
+  for (int k = 0; k < n; ++k) {
+    const double lo = lower[k], hi = upper[k];
+    double& x = params[k];
+    if (!std::isfinite(x)) x = 0.5 * (lo + hi);
+    if (closed & (1u << k)) {
+      if (x < lo || x > hi) {
         const double period = hi - lo;
-        if (x < lo || x > hi) x = lo + (x - lo) - period * std::floor((x - lo) / period);
-        if (x < lo) x = lo;
-        if (x > hi) x = hi;
-        continue;
+        x = std::min(std::max(x - period * std::floor((x - lo) / period), lo), hi);
       }
-      if (x <= lo) {
-        x = lo;
-        mask |= 1u << k;
-      } else if (x >= hi) {
-        x = hi;
-        mask |= 1u << k;
-      }
+    } else if (x <= lo) {
+      x = lo;
+      mask |= 1u << k;
+    } else if (x >= hi) {
+      x = hi;
+      mask |= 1u << k;
     }
   }
   return mask;
 }
 
-unsigned lower_bound_mask(const Feature& A, const Feature& B, const Vec4& params) {
+unsigned Parameter_domain::lower_mask(const Vec4& params) const {
   unsigned mask = 0;
-  int k = 0;
-  for (const Feature* f : {&A, &B})
-    for (int i = 0; i < f->dimension(); ++i, ++k)
-      if (params[k] <= f->lower(i)) mask |= 1u << k;
+  for (int k = 0; k < n; ++k)
+    if (!(closed & (1u << k)) && params[k] <= lower[k]) mask |= 1u << k;
   return mask;
+}
+
+unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params) {
+  return Parameter_domain::of(A, B).clamp(params);
 }
 
 namespace {
@@ -109,6 +117,7 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
     A(k, k) = 1.0;
     r[k] = 0.0;
   }
+  const double scale = mode.scale > 0.0 ? mode.scale : A.cwiseAbs().maxCoeff();
   if (mode.minimum) {
     // H = S A is the Hessian of |d|^2 / 2 (symmetric up to rounding).
     for (int k = mode.na; k < n; ++k) {
@@ -116,7 +125,7 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
       r[k] = -r[k];
     }
     A = (0.5 * (A + A.transpose())).eval();
-    const Eigen::LLT<Mat4> llt(A);
+    Eigen::LLT<Mat4> llt(A);
     if (llt.info() != Eigen::Success) {
       const Eigen::SelfAdjointEigenSolver<Mat4> eig(A);
       // Size of the active block only: the identity padding must not make a vanishing M look
@@ -124,11 +133,23 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
       const double top = A.topLeftCorner(n, n).cwiseAbs().maxCoeff();
       const double shift = -eig.eigenvalues().minCoeff() + 1e-2 * top;
       A.diagonal().array() += shift;
+      llt.compute(A);
     }
+    // Pivots of H = L L^T are the squared diagonal of L.
+    const Vec4 diag = llt.matrixLLT().diagonal().cwiseAbs2();
+    if (llt.info() != Eigen::Success || !(diag.minCoeff() > 1e-12 * scale)) {
+      x.setZero();
+      return false;
+    }
+    x = llt.solve(r);
+    if (!x.allFinite()) {
+      x.setZero();
+      return false;
+    }
+    return true;
   }
   const Eigen::PartialPivLU<Mat4> lu(A);
   const Vec4 diag = lu.matrixLU().diagonal().cwiseAbs();
-  const double scale = mode.scale > 0.0 ? mode.scale : A.cwiseAbs().maxCoeff();
   if (!(diag.minCoeff() > 1e-12 * scale)) {
     x.setZero();
     return false;
@@ -172,7 +193,8 @@ Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
                                  const Vec4& start, const Newton_options& options) {
   Newton_result r;
   r.params = start;
-  unsigned on_bound = keep_in_domain(*A.feature, *B.feature, r.params);
+  const Parameter_domain domain = Parameter_domain::of(*A.feature, *B.feature);
+  unsigned on_bound = domain.clamp(r.params);
   const Posed_feature a{A.feature, A.pose, nullptr}, b{B.feature, B.pose, nullptr};
   Pair_system s;
   const int n = A.feature->dimension() + B.feature->dimension();
@@ -180,12 +202,7 @@ Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
     r.converged = true;
     return r;
   }
-  Vec4 max_step = Vec4::Zero();
-  {
-    int k = 0;
-    for (const Feature* f : {A.feature, B.feature})
-      for (int i = 0; i < f->dimension(); ++i, ++k) max_step[k] = 0.25 * (f->upper(i) - f->lower(i));
-  }
+  const Vec4 max_step = 0.25 * (domain.upper - domain.lower);
   for (r.iterations = 0; r.iterations < options.max_iterations; ++r.iterations) {
     build_pair_system(a, b, r.params, s, false);
     const Vec4 e = normalised_projection_errors(s);
@@ -198,8 +215,7 @@ Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
       break;
     }
     Vec4 step;
-    if (!solve_constrained(s.M, -s.phi, n, on_bound,
-                           lower_bound_mask(*A.feature, *B.feature, r.params), step,
+    if (!solve_constrained(s.M, -s.phi, n, on_bound, domain.lower_mask(r.params), step,
                            solve_mode_for(s)))
       break;
     double scale = 1.0;
@@ -207,7 +223,7 @@ Newton_result solve_pair_at_rest(const Posed_feature& A, const Posed_feature& B,
       if (std::abs(step[k]) > max_step[k]) scale = std::min(scale, max_step[k] / std::abs(step[k]));
     const Vec4 before = r.params;
     r.params += scale * step;
-    on_bound = keep_in_domain(*A.feature, *B.feature, r.params);
+    on_bound = domain.clamp(r.params);
     if ((r.params - before).cwiseAbs().maxCoeff() == 0.0) {
       r.converged = true;
       break;

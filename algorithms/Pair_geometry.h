@@ -42,8 +42,20 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
 // Seed's normalised projection errors Phi_k / (|d| |tangent_k|); zero where undefined.
 Vec4 normalised_projection_errors(const Pair_system& s);
 
-// Puts parameters back into their domains: closed directions wrap, the rest clamp.
-// Bit k of the returned mask is set when parameter k sits on a bound.
+// The parameter box of a pair, [A's..., B's...], with the closed (wrapping) directions.
+struct Parameter_domain {
+  int n = 0;
+  Vec4 lower = Vec4::Zero(), upper = Vec4::Zero();
+  unsigned closed = 0;  // bit k: parameter k wraps
+
+  static Parameter_domain of(const Feature& A, const Feature& B);
+  // Puts parameters back into the domain: closed directions wrap, the rest clamp. Bit k of the
+  // returned mask is set when parameter k sits on a bound.
+  unsigned clamp(Vec4& params) const;
+  // Bit k set when parameter k sits on its lower bound.
+  unsigned lower_mask(const Vec4& params) const;
+};
+
 unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params);
 
 // How solve_constrained treats a Jacobian that is not that of a minimum.
@@ -70,8 +82,6 @@ Solve_mode solve_mode_for(const Pair_system& s, bool minimum = true);
 bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
                        unsigned lower_side, Vec4& x, const Solve_mode& mode = {false, 0});
 
-// Which of the bounds in `on_bound` are lower bounds.
-unsigned lower_bound_mask(const Feature& A, const Feature& B, const Vec4& params);
 
 struct Newton_options {
   int max_iterations = 60;
