@@ -189,6 +189,8 @@ struct Live_node {
   double size = 0.0;  // box diagonal
   int child[2] = {-1, -1};
   int depth = 0;
+  int axis_stamp = -1;  // the witness axis axis_lo/hi were computed for
+  double axis_lo = 0.0, axis_hi = 0.0;
   bool is_net() const { return tree < 0; }
   int count() const { return nu * nv; }
 };
@@ -350,6 +352,7 @@ struct Side {
         Live_node& c = pools->nodes[ci];
         c = parent;
         c.child[0] = c.child[1] = -1;
+        c.axis_stamp = -1;
         c.depth = parent.depth + 1;
         c.offset = off0 + half * count;
         if (half == 0)
@@ -398,7 +401,8 @@ class Solver {
   Distance_result run();
 
  private:
-  double lower_bound(const Live_node& a, const Live_node& b, double cutoff) const;
+  double lower_bound(Live_node& a, Live_node& b, double cutoff);
+  void project_on_axis(Live_node& n, int side);
   void corner_candidates(const Live_node& a, const Live_node& b);
   void polish(const Live_node& a, const Live_node& b);
   bool try_intersection(int ea, int eb, Vec4 x);
@@ -423,6 +427,7 @@ class Solver {
   Witness m_best;
   Vec3 m_axis = Vec3::Zero();
   bool m_have_axis = false;
+  int m_axis_stamp = 0;
   double m_resolution = 0.0;
   bool m_met = false;  // a common point was found
   bool m_transversal = false;
@@ -431,7 +436,22 @@ class Solver {
   int m_intersection_attempts = 0;
 };
 
-double Solver::lower_bound(const Live_node& a, const Live_node& b, double cutoff) const {
+// Projection interval of a net on the witness axis, cached per node until the axis changes.
+void Solver::project_on_axis(Live_node& n, int side) {
+  if (n.axis_stamp == m_axis_stamp) return;
+  const Vec3* c = m_side[side].cart(n);
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int k = 0; k < n.count(); ++k) {
+    const double s = m_axis.dot(c[k]);
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  n.axis_lo = lo;
+  n.axis_hi = hi;
+  n.axis_stamp = m_axis_stamp;
+}
+
+double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff) {
   double L = internal::box_distance(a.bmin, a.bmax, b.bmin, b.bmax);
   if (L >= cutoff) return L;
   L = std::max(L, (a.centre - b.centre).norm() - a.radius - b.radius);
@@ -439,12 +459,22 @@ double Solver::lower_bound(const Live_node& a, const Live_node& b, double cutoff
   const Vec3* ca = m_side[0].cart(a);
   const Vec3* cb = m_side[1].cart(b);
   if (m_have_axis) {
-    L = std::max(L, internal::axis_gap(ca, a.count(), cb, b.count(), m_axis));
+    project_on_axis(a, 0);
+    project_on_axis(b, 1);
+    L = std::max({L, b.axis_lo - a.axis_hi, a.axis_lo - b.axis_hi});
     if (L >= cutoff) return L;
   }
-  const Vec3 e = b.centre - a.centre;
-  const double len = e.norm();
-  if (len > 0.0) L = std::max(L, internal::axis_gap(ca, a.count(), cb, b.count(), e / len));
+  Vec3 e = b.centre - a.centre;
+  double len = e.norm();
+  // From the centroid axis, a few support-point steps towards the hulls' separating axis (the
+  // axis through A's highest and B's lowest control point along the current one), as in GJK.
+  for (int it = 0; it < 2 && len > 0.0; ++it) {
+    int ia, ib;
+    L = std::max(L, internal::axis_gap_support(ca, a.count(), cb, b.count(), e / len, ia, ib));
+    if (L >= cutoff) return L;
+    e = cb[ib] - ca[ia];
+    len = e.norm();
+  }
   return L;
 }
 
@@ -463,6 +493,7 @@ void Solver::offer(double dist, const Vec3& pa, const Vec3& pb, int ea, const do
   if (dist > m_resolution) {
     m_axis = (pb - pa) / dist;
     m_have_axis = true;
+    ++m_axis_stamp;
   }
 }
 

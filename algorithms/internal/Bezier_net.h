@@ -48,7 +48,8 @@ inline void net_bounds(const Hom* net, int n, Vec3* cart, Vec3& bmin, Vec3& bmax
   bmax.setConstant(-HUGE_VAL);
   centre.setZero();
   for (int k = 0; k < n; ++k) {
-    cart[k] = net[k].head<3>() / net[k][3];
+    const double inv_w = 1.0 / net[k][3];
+    cart[k] = net[k].head<3>() * inv_w;
     bmin = bmin.cwiseMin(cart[k]);
     bmax = bmax.cwiseMax(cart[k]);
     centre += cart[k];
@@ -83,6 +84,31 @@ inline double axis_gap(const Vec3* a, int na, const Vec3* b, int nb, const Vec3&
     const double s = n.dot(b[k]);
     bmin = std::min(bmin, s);
     bmax = std::max(bmax, s);
+  }
+  return std::max({0.0, bmin - amax, amin - bmax});
+}
+
+// Like axis_gap, and also the points that attain A's largest and B's smallest projection (the
+// support points along n), from which a better axis can be taken.
+inline double axis_gap_support(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n,
+                               int& a_top, int& b_bottom) {
+  double amin = HUGE_VAL, amax = -HUGE_VAL, bmin = HUGE_VAL, bmax = -HUGE_VAL;
+  a_top = b_bottom = 0;
+  for (int k = 0; k < na; ++k) {
+    const double s = n.dot(a[k]);
+    amin = std::min(amin, s);
+    if (s > amax) {
+      amax = s;
+      a_top = k;
+    }
+  }
+  for (int k = 0; k < nb; ++k) {
+    const double s = n.dot(b[k]);
+    bmax = std::max(bmax, s);
+    if (s < bmin) {
+      bmin = s;
+      b_bottom = k;
+    }
   }
   return std::max({0.0, bmin - amax, amin - bmax});
 }
