@@ -5,7 +5,10 @@
 // a seeded std::mt19937_64 (EXTREMAL_SEED=n reproduces a run).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <random>
 #include <vector>
 
@@ -15,6 +18,16 @@
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"
 #include "support/Random.h"
+
+// Counts heap allocations so a test can check that warm queries make none.
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace extremal {
 namespace {
@@ -422,6 +435,22 @@ TEST(GlobalDistance, SameMotionOfBothBodiesLeavesTheAnswer) {
     EXPECT_NEAR(r.distance, r0.distance, 3e-11 * (1 + r0.distance)) << "motion " << k;
     EXPECT_EQ(r.face_a, r0.face_a);
   }
+}
+
+TEST(GlobalDistance, WarmWorkspaceQueriesDoNotAllocate) {
+  auto rng = test::seeded_rng();
+  const Distance_hierarchy ha(make_torus_body(2.0, 0.5)), hb(make_cylinder_body(0.7, 1.5));
+  std::vector<std::pair<Rigid_pose_3, Rigid_pose_3>> poses;
+  for (int k = 0; k < 10; ++k) poses.emplace_back(random_pose(rng, 1.0), random_pose(rng, 4.0));
+  Distance_request req;
+  req.absolute_tolerance = req.relative_tolerance = 1e-12;
+  Distance_workspace ws;
+  for (const auto& [X_WA, X_WB] : poses) (void)extremal_distance(ha, X_WA, hb, X_WB, req, ws);
+  const long before = g_allocations;
+  double sum = 0.0;
+  for (const auto& [X_WA, X_WB] : poses) sum += extremal_distance(ha, X_WA, hb, X_WB, req, ws).distance;
+  EXPECT_EQ(g_allocations - before, 0);
+  EXPECT_TRUE(std::isfinite(sum));
 }
 
 TEST(GlobalDistance, RejectsEmptyBodiesAndBadRequests) {
