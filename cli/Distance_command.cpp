@@ -18,7 +18,7 @@ namespace extremal::cli {
 
 namespace {
 
-// The bodies an argument names, each with its placement in the argument's frame.
+// The bodies an argument names.
 std::vector<Body> load_bodies(const std::string& target, const char* which) {
   if (target.empty()) throw Invalid_input(std::string(which) + ": empty shape spec or file name");
   if (io::is_shape_spec(target)) {
@@ -79,9 +79,7 @@ int run_distance(const Distance_options& options) {
     Best best;
     for (std::size_t i = 0; i < ha.size(); ++i)
       for (std::size_t j = 0; j < hb.size(); ++j) {
-        const Rigid_pose_3 X_a = X_WA * bodies_a[i].placement;
-        const Rigid_pose_3 X_b = X_WB * bodies_b[j].placement;
-        const Distance_result r = extremal_distance(ha[i], X_a, hb[j], X_b, request, ws);
+        const Distance_result r = extremal_distance(ha[i], X_WA, hb[j], X_WB, request, ws);
         best.lower = std::min(best.lower, r.lower_bound);
         best.all_certified = best.all_certified && r.is_certified();
         if (!best.any || r.upper_bound < best.result.upper_bound) {
