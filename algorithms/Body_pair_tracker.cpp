@@ -11,6 +11,7 @@ const char* to_string(Pair_status s) {
     case Pair_status::Tracking: return "tracking";
     case Pair_status::Contact: return "contact";
     case Pair_status::Penetrating: return "penetrating";
+    case Pair_status::Boundary: return "boundary";
     case Pair_status::Farther: return "farther";
     case Pair_status::Fallback: return "fallback";
   }
@@ -36,22 +37,33 @@ double box_distance(const Bbox_3& a, const Bbox_3& b) {
 
 namespace {
 
-// Sample parameters of a feature on a regular grid (domain ends included).
+// Sample parameters of a feature at the centres of a regular grid of cells: interior, so a
+// seed on a flat continuum starts away from the edges (Newton still reaches an edge or corner
+// when the pair lies there).
 std::vector<Vec4> sample_params(const Feature& f, int n) {
   std::vector<Vec4> out;
+  auto at = [&](int dir, int i, int count) {
+    return f.lower(dir) + (f.upper(dir) - f.lower(dir)) * (i + 0.5) / count;
+  };
   if (f.dimension() == 0) {
     out.push_back(Vec4::Zero());
   } else if (f.dimension() == 1) {
-    const int m = 2 * n;
-    for (int i = 0; i <= m; ++i)
-      out.push_back(Vec4(f.lower(0) + (f.upper(0) - f.lower(0)) * i / m, 0, 0, 0));
+    for (int i = 0; i < 2 * n; ++i) out.push_back(Vec4(at(0, i, 2 * n), 0, 0, 0));
   } else {
-    for (int i = 0; i <= n; ++i)
-      for (int j = 0; j <= n; ++j)
-        out.push_back(Vec4(f.lower(0) + (f.upper(0) - f.lower(0)) * i / n,
-                           f.lower(1) + (f.upper(1) - f.lower(1)) * j / n, 0, 0));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) out.push_back(Vec4(at(0, i, n), at(1, j, n), 0, 0));
   }
   return out;
+}
+
+// How far parameters sit from the middle of their domain (0 at the centre, 1 at a corner).
+double off_centre(const Feature& f, const Vec4& p) {
+  double s = 0.0;
+  for (int i = 0; i < f.dimension(); ++i) {
+    const double mid = 0.5 * (f.lower(i) + f.upper(i)), half = 0.5 * (f.upper(i) - f.lower(i));
+    s += ((p[i] - mid) / half) * ((p[i] - mid) / half);
+  }
+  return s;
 }
 
 Bbox_3 world_box(const Feature& f, const Rigid_pose_3& X) {
@@ -95,14 +107,19 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     for (std::size_t j = 0; j < m_features_b.size(); ++j) {
       const Feature& B = m_features_b[j];
       const auto pb = sample_params(B, m_options.seed_samples);
-      double d2 = std::numeric_limits<double>::infinity();
+      // Closest sample pair; among (near) ties the most central one, so that a continuum of
+      // pairs (flat on flat) is seeded away from the edges.
+      double d2 = std::numeric_limits<double>::infinity(), centrality = d2;
       std::size_t bi = 0, bj = 0;
       for (std::size_t jj = 0; jj < pb.size(); ++jj) {
         Feature_point fp;
         evaluate_feature(B, X_WB, pb[jj].data(), fp, 0);
+        const double cb = off_centre(B, pb[jj]);
         for (std::size_t ii = 0; ii < wa.size(); ++ii) {
           const double e = (wa[ii] - fp.p).squaredNorm();
-          if (e < d2) d2 = e, bi = ii, bj = jj;
+          const double c = cb + off_centre(A, pa[ii]);
+          const bool tie = std::abs(e - d2) <= 1e-12 * (d2 + 1e-300);
+          if ((!tie && e < d2) || (tie && c < centrality)) d2 = e, centrality = c, bi = ii, bj = jj;
         }
       }
       Vec4 start = Vec4::Zero();
@@ -138,6 +155,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     r.distance = box_distance(transformed(m_a.hull_bbox(), X_WA), transformed(m_b.hull_bbox(), X_WB));
     r.point_a = r.point_b = r.normal = Vec3::Zero();
     r.feature_a = r.feature_b = -1;
+    r.degeneracy = Degeneracy::None;
     r.trackers = 0;
     m_started = false;  // re-seed when the pair comes back within the threshold
     return r;
@@ -155,7 +173,14 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       r.params = tr.params;
       r.feature_a = live.fa;
       r.feature_b = live.fb;
-      r.status = tr.status == Track_status::Singular_jacobian ? Pair_status::Fallback
+      r.degeneracy = tr.degeneracy;
+      const double tol = m_options.contact_tolerance;
+      // Contact and penetration matter most to a simulator; the degeneracy stays in
+      // r.degeneracy whatever the status.
+      r.status = tr.distance < -tol                           ? Pair_status::Penetrating
+                 : tr.distance <= tol                         ? Pair_status::Contact
+                 : tr.status == Track_status::Singular_fallback ? Pair_status::Fallback
+                 : tr.status == Track_status::On_boundary     ? Pair_status::Boundary
                                                               : Pair_status::Tracking;
     }
   }

@@ -11,11 +11,12 @@
 namespace extremal {
 
 enum class Pair_status {
-  Tracking,  // apart, tracked
-  Contact,   // touching (|distance| within the contact tolerance)
-  Penetrating,
-  Farther,   // beyond the threshold: not tracked
-  Fallback,  // a singular step kept the last good parameters
+  Tracking,     // apart, tracked
+  Contact,      // touching: |distance| within the contact tolerance
+  Penetrating,  // distance below minus the contact tolerance
+  Boundary,     // apart, the pair on a patch edge or corner
+  Farther,      // beyond the threshold: not tracked
+  Fallback,     // degenerate geometry: damped step (Pair_report::degeneracy says why)
 };
 const char* to_string(Pair_status s);
 
@@ -26,6 +27,7 @@ struct Pair_report {
   int feature_a = -1, feature_b = -1;  // face index (curves follow the faces)
   Vec4 params = Vec4::Zero();
   Pair_status status = Pair_status::Tracking;
+  Degeneracy degeneracy = Degeneracy::None;
   int trackers = 0;  // live feature-pair trackers
 };
 
@@ -34,10 +36,11 @@ struct Body_pair_options {
   // Tracker_options::corrections).
   Tracker_options tracker = [] {
     Tracker_options o;
-    o.corrections = 3;
+    o.corrections = 10;
     return o;
   }();
   double threshold = 0.0;  // > 0: pairs whose boxes are farther apart are not tracked
+  double contact_tolerance = 1e-9;  // |distance| at or below this is contact
   int seed_samples = 16;   // samples per surface direction when seeding (32 per curve)
 };
 

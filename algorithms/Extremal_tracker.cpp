@@ -1,5 +1,6 @@
 #include "algorithms/Extremal_tracker.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -8,13 +9,27 @@
 namespace extremal {
 
 namespace {
+// Far from the pair a full Newton step can leap to another stationary pair: the parameter
+// change per step is limited to this fraction of each domain, keeping the direction.
 constexpr double k_max_change_fraction = 0.125;
 }  // namespace
 
 const char* to_string(Track_status s) {
   switch (s) {
     case Track_status::Tracking: return "tracking";
-    case Track_status::Singular_jacobian: return "fallback";
+    case Track_status::On_boundary: return "boundary";
+    case Track_status::Singular_fallback: return "fallback";
+  }
+  return "unknown";
+}
+
+const char* to_string(Degeneracy d) {
+  switch (d) {
+    case Degeneracy::None: return "";
+    case Degeneracy::Pole: return "pole";
+    case Degeneracy::Parallel: return "parallel";
+    case Degeneracy::Coincident: return "coincident";
+    case Degeneracy::Singular: return "singular";
   }
   return "unknown";
 }
@@ -27,10 +42,28 @@ Extremal_tracker::Extremal_tracker(const Feature& a, const Feature& b, const Vec
                             "tracker gain must be finite and >= 0");
   EXTREMAL_PRECONDITION_MSG(options.substeps >= 1, "substeps must be >= 1");
   EXTREMAL_PRECONDITION_MSG(options.corrections >= 0, "corrections must be >= 0");
+  EXTREMAL_PRECONDITION_MSG(options.contact_band >= 0.0, "contact_band must be >= 0");
   m_domain.clamp(m_params);
   m_max_change.setConstant(std::numeric_limits<double>::infinity());
   for (int k = 0; k < m_domain.n; ++k)
     m_max_change[k] = k_max_change_fraction * (m_domain.upper[k] - m_domain.lower[k]);
+  // Parameters whose bounds are poles: a collapsed edge across a wrapping direction.
+  for (int side = 0; side < 2; ++side) {
+    const Feature& f = side == 0 ? a : b;
+    if (f.dimension() != 2) continue;
+    const int offset = side == 0 ? 0 : a.dimension();
+    const unsigned c = f.collapsed_edges();
+    if ((c & 3u) && (m_domain.closed & (1u << (offset + 1)))) m_pole_bounds |= 1u << offset;
+    if ((c & 12u) && (m_domain.closed & (1u << offset))) m_pole_bounds |= 1u << (offset + 1);
+  }
+  // The normal form needs a reference surface and parameters on the other side.
+  if (a.dimension() == 2 && b.dimension() > 0) {
+    m_normal_form = Formulation::Normal_of_a;
+    m_band = options.contact_band * std::min(a.size(), b.size());
+  } else if (b.dimension() == 2 && a.dimension() > 0) {
+    m_normal_form = Formulation::Normal_of_b;
+    m_band = options.contact_band * std::min(a.size(), b.size());
+  }
 }
 
 void Extremal_tracker::reset(const Vec4& params) {
@@ -38,53 +71,130 @@ void Extremal_tracker::reset(const Vec4& params) {
   m_domain.clamp(m_params);
 }
 
-bool Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3& V_A,
-                               const Rigid_pose_3& X_WB, const Twist_3& V_B, double dt,
-                               Vec4& U) {
-  build_pair_system({&m_a, &X_WA, &V_A}, {&m_b, &X_WB, &V_B}, params, m_system, true);
-  const int n = m_system.size();
-  Vec4 rhs;
-  for (int k = 0; k < 4; ++k) {
-    const double K = m_options.gain[k] > 0.0 ? m_options.gain[k] : 1.0 / dt;
-    rhs[k] = k < n ? -K * m_system.phi[k] - m_system.motion[k] : 0.0;
-  }
-  Vec4 p = params;
-  const unsigned on_bound = m_domain.clamp(p);
-  if (!solve_constrained(m_system.M, rhs, n, on_bound, m_domain.lower_mask(p), U,
-                         solve_mode_for(m_system)))
-    return false;
-  // Far from the pair a full Newton step can leap to another stationary pair; limit the
-  // parameter change per step to a fraction of each domain, keeping the direction.
-  double scale = 1.0;
-  for (int k = 0; k < n; ++k) {
-    const double change = std::abs(U[k]) * dt;
-    if (change > m_max_change[k]) scale = std::min(scale, m_max_change[k] / change);
-  }
-  U *= scale;
-  return true;
+Formulation Extremal_tracker::choose_form() const {
+  return m_in_band ? m_normal_form : Formulation::Projection;
 }
 
-int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+double Extremal_tracker::signed_distance() const {
+  const Vec3 ab = m_system.b.p - m_system.a.p;
+  const double len = ab.norm();
+  if (m_a.dimension() == 2) return ab.dot(m_system.normal_a) < 0.0 ? -len : len;
+  if (m_b.dimension() == 2) return ab.dot(m_system.normal_b) > 0.0 ? -len : len;
+  return len;
+}
+
+Degeneracy Extremal_tracker::classify_singular() const {
+  const Pair_system& s = m_system;
+  for (const Feature_point* f : {&s.a, &s.b}) {
+    const int dim = f == &s.a ? s.na : s.nb;
+    if (dim != 2) continue;
+    const double lu = f->d[0].norm(), lv = f->d[1].norm();
+    if (std::min(lu, lv) <= 1e-6 * std::max(lu, lv)) return Degeneracy::Pole;
+  }
+  if (s.na == 2 && s.nb == 2 && s.normal_a.cross(s.normal_b).norm() < 1e-6) {
+    const double size = std::max(m_a.size(), m_b.size());
+    return s.d.norm() <= 1e-9 * size ? Degeneracy::Coincident : Degeneracy::Parallel;
+  }
+  return Degeneracy::Singular;
+}
+
+void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3* V_A,
+                               const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt,
+                               Vec4& U, Degeneracy& degeneracy) {
+  const bool moving = V_A != nullptr;
+  build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
+                    choose_form());
+  // Hand-over with hysteresis: enter the normal form inside the band, leave beyond twice it.
+  const double dist = m_system.d.norm();
+  const bool in_band = m_normal_form != Formulation::Projection &&
+                       (dist < m_band || (m_in_band && dist < 2.0 * m_band));
+  if (in_band != m_in_band) {
+    m_in_band = in_band;
+    build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
+                      choose_form());
+  }
+  const int n = m_system.size();
+  Vec4 rhs = Vec4::Zero();
+  for (int k = 0; k < n; ++k) {
+    // gain_dt > 0: the step's dt with the configured gains; a correction uses K dt = 1.
+    const double Kdt = m_options.gain[k] > 0.0 && moving ? m_options.gain[k] * gain_dt : 1.0;
+    rhs[k] = -Kdt * m_system.phi[k] - (moving ? gain_dt * m_system.motion[k] : 0.0);
+  }
+  // rhs is the parameter change over the step (U dt); U follows by dividing by dt.
+  Vec4 p = params;
+  // A pole is no edge: the pair goes over it (cross_poles), so it never freezes there.
+  const unsigned on_bound = m_domain.clamp(p) & ~m_pole_bounds;
+  const unsigned lower = m_domain.lower_mask(p);
+  Solve_mode mode = solve_mode_for(m_system);
+  // Seek a minimum in the projection form while apart. The penetration pair is a saddle and
+  // is tracked as such, but only once the pair is nearly converged: far from it the sign of
+  // the distance means nothing yet.
+  mode.minimum = m_system.form == Formulation::Projection &&
+                 (signed_distance() >= 0.0 ||
+                  normalised_projection_errors(m_system).cwiseAbs().maxCoeff() > 0.1);
+  if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) {
+    degeneracy = classify_singular();
+    mode.damped = true;
+    if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) U.setZero();
+  }
+  double scale = 1.0;
+  for (int k = 0; k < n; ++k)
+    if (std::abs(U[k]) > m_max_change[k]) scale = std::min(scale, m_max_change[k] / std::abs(U[k]));
+  U *= scale / gain_dt;
+}
+
+void Extremal_tracker::cross_poles(Vec4& x) const {
+  const unsigned collapsed[2] = {m_a.collapsed_edges(), m_b.collapsed_edges()};
+  const int offset[2] = {0, m_a.dimension()};
+  for (int side = 0; side < 2; ++side) {
+    if (!collapsed[side] || (side == 0 ? m_a.dimension() : m_b.dimension()) != 2) continue;
+    for (int dir = 0; dir < 2; ++dir) {  // dir: the parameter that runs into the edge
+      const int k = offset[side] + dir, other = offset[side] + 1 - dir;
+      if (!(m_domain.closed & (1u << other))) continue;  // needs the other direction to wrap
+      const unsigned low_bit = dir == 0 ? 1u : 4u, high_bit = dir == 0 ? 2u : 8u;
+      const double lo = m_domain.lower[k], hi = m_domain.upper[k];
+      const double half = 0.5 * (m_domain.upper[other] - m_domain.lower[other]);
+      if ((collapsed[side] & low_bit) && x[k] < lo) {
+        x[k] = 2.0 * lo - x[k];
+        x[other] += half;
+      } else if ((collapsed[side] & high_bit) && x[k] > hi) {
+        x[k] = 2.0 * hi - x[k];
+        x[other] += half;
+      }
+    }
+  }
+}
+
+int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                              Degeneracy& degeneracy) {
   int done = 0;
   const Posed_feature a{&m_a, &X_WA, nullptr}, b{&m_b, &X_WB, nullptr};
-  const int n = m_a.dimension() + m_b.dimension();
+  // Merit of a candidate: the distance while seeking a minimum, else the residual of the
+  // active conditions. Newton directions descend on it, so halving the step until it drops
+  // keeps corrections from oscillating where the linearisation is poor (near a pole).
+  auto merit = [&](bool minimum) {
+    return minimum ? m_system.d.norm() : m_system.phi.head(m_system.size()).norm();
+  };
   while (done < m_options.corrections) {
-    build_pair_system(a, b, m_params, m_system, false);
+    build_pair_system(a, b, m_params, m_system, false, choose_form());
     if (normalised_projection_errors(m_system).cwiseAbs().maxCoeff() <=
         m_options.correction_tolerance)
       break;
-    Vec4 x = m_params;
-    const unsigned on_bound = m_domain.clamp(x);
-    Vec4 step;
+    const bool minimum = m_system.form == Formulation::Projection && signed_distance() >= 0.0;
+    const double before = merit(minimum);
+    Vec4 U;
+    control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
     ++done;
-    if (!solve_constrained(m_system.M, -m_system.phi, n, on_bound, m_domain.lower_mask(x),
-                           step, solve_mode_for(m_system)))
-      break;
-    double scale = 1.0;
-    for (int k = 0; k < n; ++k)
-      if (std::abs(step[k]) > m_max_change[k]) scale = std::min(scale, m_max_change[k] / std::abs(step[k]));
-    m_params += scale * step;
-    m_domain.clamp(m_params);
+    double alpha = 1.0;
+    Vec4 x = m_params;
+    for (int halving = 0; halving < 12; ++halving, alpha *= 0.5) {
+      x = m_params + alpha * U;
+      cross_poles(x);
+      m_domain.clamp(x);
+      build_pair_system(a, b, x, m_system, false, choose_form());
+      if (merit(minimum) <= before) break;
+    }
+    m_params = x;
   }
   return done;
 }
@@ -95,19 +205,29 @@ void Extremal_tracker::fill_result(double t) {
   r.params = m_params;
   r.point_a = m_system.a.p;
   r.point_b = m_system.b.p;
-  const Vec3 ab = r.point_b - r.point_a;
-  r.distance = ab.norm();
-  r.normal = r.distance > 0.0 ? Vec3(ab / r.distance) : Vec3::Zero();
-  r.projection_errors = m_system.phi;
+  r.distance = signed_distance();
+  if (r.distance != 0.0) {
+    r.normal = (r.point_b - r.point_a) / r.distance;
+  } else if (m_a.dimension() == 2) {
+    r.normal = m_system.normal_a;
+  } else if (m_b.dimension() == 2) {
+    r.normal = -m_system.normal_b;
+  } else {
+    r.normal.setZero();
+  }
+  r.projection_errors = m_system.projection;
   r.normalised_errors = normalised_projection_errors(m_system);
+  r.normal_form = m_system.form != Formulation::Projection;
 }
 
 const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_WA,
                                                const Rigid_pose_3& X_WB) {
-  build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false);
+  build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false,
+                    choose_form());
   fill_result(t);
   m_result.iterations = 0;
   m_result.status = Track_status::Tracking;
+  m_result.degeneracy = Degeneracy::None;
   return m_result;
 }
 
@@ -117,21 +237,17 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
   EXTREMAL_PRECONDITION_MSG(dt > 0.0 && std::isfinite(dt), "dt = " << dt << " must be > 0");
   const int substeps = m_options.substeps;
   const double h = dt / substeps;
-  int solves = 0;
-  bool singular = false;
-  solves += correct(X_WA, X_WB);
+  Degeneracy degeneracy = Degeneracy::None;
+  int solves = correct(X_WA, X_WB, degeneracy);
   Vec4 x = m_params;
-  for (int s = 0; s < substeps && !singular; ++s) {
+  for (int s = 0; s < substeps; ++s) {
     // Poses at the start of the substep, from the twists (held constant over the step).
     const double tau = s * h;
     const Rigid_pose_3 A0 = s == 0 ? X_WA : advance(X_WA, V_A, tau);
     const Rigid_pose_3 B0 = s == 0 ? X_WB : advance(X_WB, V_B, tau);
     Vec4 k1;
+    control(x, A0, &V_A, B0, &V_B, h, k1, degeneracy);
     ++solves;
-    if (!control(x, A0, V_A, B0, V_B, h, k1)) {
-      singular = true;
-      break;
-    }
     if (s == 0) fill_result(t);  // the pair at time t, before the parameters move
     if (m_options.integrator == Integrator::Euler) {
       x += h * k1;
@@ -143,28 +259,26 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
       Vec4 k2, k3, k4;
       Vec4 y = x + 0.5 * h * k1;
       m_domain.clamp(y);
-      singular = !control(y, Ah, V_A, Bh, V_B, h, k2);
+      control(y, Ah, &V_A, Bh, &V_B, h, k2, degeneracy);
       y = x + 0.5 * h * k2;
       m_domain.clamp(y);
-      singular = singular || !control(y, Ah, V_A, Bh, V_B, h, k3);
+      control(y, Ah, &V_A, Bh, &V_B, h, k3, degeneracy);
       y = x + h * k3;
       m_domain.clamp(y);
-      singular = singular || !control(y, A1, V_A, B1, V_B, h, k4);
+      control(y, A1, &V_A, B1, &V_B, h, k4, degeneracy);
       solves += 3;
-      if (singular) break;
       x += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
+    cross_poles(x);
     m_domain.clamp(x);
   }
-  if (singular) {
-    // Keep the last good parameters and report the pair there.
-    build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false);
-    fill_result(t);
-    m_result.status = Track_status::Singular_jacobian;
-  } else {
-    m_params = x;
-    m_result.status = Track_status::Tracking;
-  }
+  m_params = x;
+  Vec4 probe = m_result.params;
+  const bool on_edge = (m_domain.clamp(probe) & ~m_pole_bounds) != 0;
+  m_result.degeneracy = degeneracy;
+  m_result.status = degeneracy != Degeneracy::None ? Track_status::Singular_fallback
+                    : on_edge                        ? Track_status::On_boundary
+                                                     : Track_status::Tracking;
   m_result.iterations = solves;
   return m_result;
 }

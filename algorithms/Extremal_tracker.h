@@ -1,6 +1,9 @@
 // Tracks the extremal pair between two moving features (the seed's feedback-linearising
-// controller, ../shared/DESIGN.md section 1): U = M^-1 (-K Phi - b), parameters integrated
-// from U, Phi recomputed from the geometry at every step (the seed's Figure 4 variant).
+// controller, ../shared/DESIGN.md sections 1 and 2): U = M^-1 (-K Phi - b), parameters
+// integrated from U, the conditions recomputed from the geometry at every step (the seed's
+// Figure 4 variant). Near contact the normal form of the conditions takes over so the pair
+// passes through contact into penetration; on patch edges the pair continues as the reduced
+// problem; degenerate geometry falls back to damped least squares.
 #pragma once
 
 #include "algorithms/Feature.h"
@@ -22,6 +25,9 @@ struct Tracker_options {
   // keep the reported pair exact; 0 gives the seed's pure controller.
   int corrections = 0;
   double correction_tolerance = 1e-7;
+  // The normal form is used while |d| is below this fraction of the smaller feature size (and
+  // left above twice that): the hand-over band around contact.
+  double contact_band = 0.05;
 
   static Tracker_options with_gain(double k) {
     Tracker_options o;
@@ -32,13 +38,27 @@ struct Tracker_options {
 
 enum class Track_status {
   Tracking,           // regular step
-  Singular_jacobian,  // M singular or not finite: parameters kept from the last good step
+  On_boundary,        // some parameter sits on a patch edge: the reduced problem is tracked
+  Singular_fallback,  // M singular: damped least squares (see Degeneracy for why)
 };
 const char* to_string(Track_status s);
 
+// What made M singular when the tracker fell back.
+enum class Degeneracy {
+  None,
+  Pole,        // a collapsed edge of the parametrisation (f_u = 0 or f_v = 0)
+  Parallel,    // parallel tangent planes at distance: flat on flat, equal curvature
+  Coincident,  // the surfaces coincide at the pair
+  Singular,    // anything else
+};
+const char* to_string(Degeneracy d);
+
 struct Track_result {
   double time = 0.0;
-  double distance = 0.0;        // |f - h| at the current parameters
+  // Signed extremal distance: positive apart, zero at tangential contact, negative inside (the
+  // local maximum penetration depth). Its sign comes from A's outward normal when A is a
+  // surface, else from B's; between curves and points it is |f - h|.
+  double distance = 0.0;
   Vec3 point_a = Vec3::Zero();  // witness on A, world
   Vec3 point_b = Vec3::Zero();  // witness on B, world
   Vec3 normal = Vec3::Zero();   // unit, from A to B: point_b - point_a = distance * normal
@@ -47,13 +67,15 @@ struct Track_result {
   Vec4 normalised_errors = Vec4::Zero();  // Phi_k / (|d| |tangent_k|)
   int iterations = 0;  // linear solves spent in this step
   Track_status status = Track_status::Tracking;
+  Degeneracy degeneracy = Degeneracy::None;
+  bool normal_form = false;  // the contact (normal) form of the conditions was active
 };
 
 class Extremal_tracker {
  public:
   // `initial` holds the starting parameters (anywhere in the domains). The features must
-  // outlive the tracker. Throws Precondition_violation on a negative or non-finite gain or
-  // substeps < 1.
+  // outlive the tracker. Throws Precondition_violation on a negative or non-finite gain,
+  // substeps < 1 or corrections < 0.
   Extremal_tracker(const Feature& a, const Feature& b, const Vec4& initial,
                    const Tracker_options& options = {});
 
@@ -74,19 +96,28 @@ class Extremal_tracker {
   const Tracker_options& options() const { return m_options; }
 
  private:
-  // Parameter velocity U at `params` for poses and twists; false if M is singular.
-  bool control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3& V_A,
-               const Rigid_pose_3& X_WB, const Twist_3& V_B, double dt, Vec4& U);
+  // Parameter velocity U at `params`; `twists` null means at rest (a Newton correction).
+  // Records the degeneracy when it had to damp.
+  void control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3* V_A,
+               const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt, Vec4& U,
+               Degeneracy& degeneracy);
+  Formulation choose_form() const;
+  double signed_distance() const;
+  Degeneracy classify_singular() const;
+  // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
+  void cross_poles(Vec4& x) const;
+  int correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Degeneracy& degeneracy);
   void fill_result(double t);
-  // Newton corrections at rest at the given poses (see Tracker_options::corrections); returns
-  // how many were made.
-  int correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
 
   Feature m_a, m_b;
   Tracker_options m_options;
   Parameter_domain m_domain;
   Vec4 m_params;
-  Vec4 m_max_change;  // largest parameter change per step
+  Vec4 m_max_change;       // largest parameter change per step
+  double m_band = 0.0;     // |d| below which the normal form is used
+  Formulation m_normal_form = Formulation::Projection;  // the normal form this pair can use
+  bool m_in_band = false;  // hysteresis state of the hand-over
+  unsigned m_pole_bounds = 0;  // bit k: parameter k's bounds are poles, not edges
   Pair_system m_system;
   Track_result m_result;
 };

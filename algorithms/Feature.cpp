@@ -1,6 +1,40 @@
 #include "algorithms/Feature.h"
 
+#include <cmath>
+
 namespace extremal {
+
+namespace {
+
+double diagonal(const Bbox_3& b) {
+  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
+                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
+                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
+}
+
+}  // namespace
+
+Feature::Feature(Kind k, const Nurbs_curve_3* c, const Nurbs_surface_3* s, const Vec3& p)
+    : m_kind(k), m_curve(c), m_surface(s), m_point(p) {
+  if (c) m_size = diagonal(c->hull_bbox());
+  if (!s) return;
+  m_size = diagonal(s->hull_bbox());
+  const double tol = 1e-12 * m_size;
+  const int nu = s->number_of_poles_u(), nv = s->number_of_poles_v();
+  auto collapsed = [&](bool along_v, int fixed) {
+    const int count = along_v ? nv : nu;
+    const Point_3& first = along_v ? s->pole(fixed, 0) : s->pole(0, fixed);
+    for (int k = 1; k < count; ++k) {
+      const Point_3& q = along_v ? s->pole(fixed, k) : s->pole(k, fixed);
+      if (std::sqrt(CGAL::squared_distance(first, q)) > tol) return false;
+    }
+    return true;
+  };
+  if (collapsed(true, 0)) m_collapsed |= 1u;
+  if (collapsed(true, nu - 1)) m_collapsed |= 2u;
+  if (collapsed(false, 0)) m_collapsed |= 4u;
+  if (collapsed(false, nv - 1)) m_collapsed |= 8u;
+}
 
 double Feature::lower(int i) const {
   if (m_surface) return i == 0 ? m_surface->u_min() : m_surface->v_min();

@@ -32,13 +32,20 @@ class Feature {
   // +1 or -1: see Nurbs_surface_3::outward_sign (curves and points: +1).
   int outward_sign() const { return m_surface ? m_surface->outward_sign() : 1; }
 
+  // Edges of a surface that collapse to a point (poles of spheres, apexes): bit 0 the u_min
+  // edge, 1 u_max, 2 v_min, 3 v_max.
+  unsigned collapsed_edges() const { return m_collapsed; }
+  // Diagonal of the control-point box in the body frame (0 for a point).
+  double size() const { return m_size; }
+
  private:
-  Feature(Kind k, const Nurbs_curve_3* c, const Nurbs_surface_3* s, const Vec3& p)
-      : m_kind(k), m_curve(c), m_surface(s), m_point(p) {}
+  Feature(Kind k, const Nurbs_curve_3* c, const Nurbs_surface_3* s, const Vec3& p);
   Kind m_kind;
   const Nurbs_curve_3* m_curve;
   const Nurbs_surface_3* m_surface;
   Vec3 m_point;
+  unsigned m_collapsed = 0;
+  double m_size = 0.0;
 };
 
 // A feature evaluated at parameters and placed in the world: point, first derivatives d[i]

@@ -6,11 +6,33 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 
 namespace extremal {
 
+namespace {
+
+// Unit outward normal of a surface feature and its derivatives along the two parameters.
+void outward_normal(const Feature_point& f, int sign, Vec3& n, Vec3 dn[2]) {
+  const Vec3 m = sign * f.d[0].cross(f.d[1]);
+  const double len = m.norm();
+  if (!(len > 0.0)) {
+    n.setZero();
+    dn[0].setZero();
+    dn[1].setZero();
+    return;
+  }
+  n = m / len;
+  for (int k = 0; k < 2; ++k) {
+    const Vec3 dm = sign * (f.dd[0][k].cross(f.d[1]) + f.d[0].cross(f.dd[1][k]));
+    dn[k] = (dm - n * n.dot(dm)) / len;
+  }
+}
+
+}  // namespace
+
 void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec4& params,
-                       Pair_system& s, bool with_motion) {
+                       Pair_system& s, bool with_motion, Formulation form) {
   const int na = A.feature->dimension(), nb = B.feature->dimension();
   s.na = na;
   s.nb = nb;
@@ -18,15 +40,41 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
   evaluate_feature(*B.feature, *B.pose, params.data() + na, s.b, 2);
   const Vec3 d = s.a.p - s.b.p;
   s.d = d;
+  Vec3 dn_a[2], dn_b[2];
+  const bool surf_a = na == 2, surf_b = nb == 2;
+  if (surf_a) outward_normal(s.a, A.feature->outward_sign(), s.normal_a, dn_a);
+  else s.normal_a.setZero();
+  if (surf_b) outward_normal(s.b, B.feature->outward_sign(), s.normal_b, dn_b);
+  else s.normal_b.setZero();
+  if ((form == Formulation::Normal_of_a && (!surf_a || nb == 0)) ||
+      (form == Formulation::Normal_of_b && (!surf_b || na == 0)))
+    form = Formulation::Projection;
+  s.form = form;
+
   s.phi.setZero();
+  s.projection.setZero();
   s.M.setIdentity();
   for (int i = 0; i < na; ++i) {
-    s.phi[i] = d.dot(s.a.d[i]);
+    s.projection[i] = d.dot(s.a.d[i]);
+    if (form == Formulation::Normal_of_b) {
+      s.phi[i] = s.normal_b.dot(s.a.d[i]);
+      for (int k = 0; k < na; ++k) s.M(i, k) = s.normal_b.dot(s.a.dd[i][k]);
+      for (int l = 0; l < nb; ++l) s.M(i, na + l) = dn_b[l].dot(s.a.d[i]);
+      continue;
+    }
+    s.phi[i] = s.projection[i];
     for (int k = 0; k < na; ++k) s.M(i, k) = s.a.d[k].dot(s.a.d[i]) + d.dot(s.a.dd[i][k]);
     for (int l = 0; l < nb; ++l) s.M(i, na + l) = -s.b.d[l].dot(s.a.d[i]);
   }
   for (int j = 0; j < nb; ++j) {
-    s.phi[na + j] = d.dot(s.b.d[j]);
+    s.projection[na + j] = d.dot(s.b.d[j]);
+    if (form == Formulation::Normal_of_a) {
+      s.phi[na + j] = s.normal_a.dot(s.b.d[j]);
+      for (int k = 0; k < na; ++k) s.M(na + j, k) = dn_a[k].dot(s.b.d[j]);
+      for (int l = 0; l < nb; ++l) s.M(na + j, na + l) = s.normal_a.dot(s.b.dd[j][l]);
+      continue;
+    }
+    s.phi[na + j] = s.projection[na + j];
     for (int k = 0; k < na; ++k) s.M(na + j, k) = s.a.d[k].dot(s.b.d[j]);
     for (int l = 0; l < nb; ++l)
       s.M(na + j, na + l) = -s.b.d[l].dot(s.b.d[j]) + d.dot(s.b.dd[j][l]);
@@ -36,17 +84,23 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
   const bool moving_a = A.twist && !A.twist->is_zero();
   const bool moving_b = B.twist && !B.twist->is_zero();
   if (!moving_a && !moving_b) return;
-  // Relative velocity of the two material points, then the rotation of each tangent.
+  // Relative velocity of the two material points; tangents and normals turn with their body.
   Vec3 w = Vec3::Zero();
   if (moving_a) w += A.twist->velocity_at(s.a.p, *A.pose);
   if (moving_b) w -= B.twist->velocity_at(s.b.p, *B.pose);
+  const Vec3 wa = moving_a ? A.twist->angular : Vec3::Zero();
+  const Vec3 wb = moving_b ? B.twist->angular : Vec3::Zero();
   for (int i = 0; i < na; ++i) {
-    s.motion[i] = w.dot(s.a.d[i]);
-    if (moving_a) s.motion[i] += d.dot(A.twist->angular.cross(s.a.d[i]));
+    if (form == Formulation::Normal_of_b)
+      s.motion[i] = s.normal_b.dot(wa.cross(s.a.d[i])) + wb.cross(s.normal_b).dot(s.a.d[i]);
+    else
+      s.motion[i] = w.dot(s.a.d[i]) + d.dot(wa.cross(s.a.d[i]));
   }
   for (int j = 0; j < nb; ++j) {
-    s.motion[na + j] = w.dot(s.b.d[j]);
-    if (moving_b) s.motion[na + j] += d.dot(B.twist->angular.cross(s.b.d[j]));
+    if (form == Formulation::Normal_of_a)
+      s.motion[na + j] = wa.cross(s.normal_a).dot(s.b.d[j]) + s.normal_a.dot(wb.cross(s.b.d[j]));
+    else
+      s.motion[na + j] = w.dot(s.b.d[j]) + d.dot(wb.cross(s.b.d[j]));
   }
 }
 
@@ -54,8 +108,12 @@ Vec4 normalised_projection_errors(const Pair_system& s) {
   Vec4 e = Vec4::Zero();
   const double dist = s.d.norm();
   for (int k = 0; k < s.size(); ++k) {
-    const double denom = dist * s.tangent(k).norm();
-    e[k] = denom > 0.0 ? s.phi[k] / denom : 0.0;
+    // A tangent that vanishes (a pole) carries no condition: its error is rounding noise.
+    const Vec3& other = k < s.na ? s.a.d[s.na - 1 - k] : s.b.d[s.nb - 1 - (k - s.na)];
+    const double len = s.tangent(k).norm();
+    if (len <= 1e-8 * other.norm()) continue;
+    const double denom = dist * len;
+    e[k] = denom > 0.0 ? s.projection[k] / denom : 0.0;
   }
   return e;
 }
@@ -118,6 +176,22 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
     r[k] = 0.0;
   }
   const double scale = mode.scale > 0.0 ? mode.scale : A.cwiseAbs().maxCoeff();
+  if (mode.damped) {
+    // x = sum_i s_i / (s_i^2 + lambda^2) v_i (u_i . r): Newton along well-determined directions,
+    // nothing along the null space.
+    const Eigen::JacobiSVD<Mat4> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const double lambda = 1e-4 * scale;
+    const Vec4 sv = svd.singularValues();
+    const Vec4 coeff = svd.matrixU().transpose() * r;
+    Vec4 scaled;
+    for (int i = 0; i < 4; ++i) scaled[i] = sv[i] / (sv[i] * sv[i] + lambda * lambda) * coeff[i];
+    x = svd.matrixV() * scaled;
+    if (!x.allFinite()) {
+      x.setZero();
+      return false;
+    }
+    return true;
+  }
   if (mode.minimum) {
     // H = S A is the Hessian of |d|^2 / 2 (symmetric up to rounding).
     for (int k = mode.na; k < n; ++k) {
@@ -127,12 +201,16 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
     A = (0.5 * (A + A.transpose())).eval();
     Eigen::LLT<Mat4> llt(A);
     if (llt.info() != Eigen::Success) {
-      const Eigen::SelfAdjointEigenSolver<Mat4> eig(A);
-      // Size of the active block only: the identity padding must not make a vanishing M look
-      // regular.
-      const double top = A.topLeftCorner(n, n).cwiseAbs().maxCoeff();
-      const double shift = -eig.eigenvalues().minCoeff() + 1e-2 * top;
-      A.diagonal().array() += shift;
+      // Not a minimum here: shift H to positive definite, in Jacobi-scaled form so that a
+      // direction of small curvature (near a pole, say) keeps its Newton step instead of being
+      // swamped by the stiff ones. Padding and frozen rows are identity and stay so.
+      Vec4 D;
+      for (int k = 0; k < 4; ++k) D[k] = std::sqrt(std::max(std::abs(A(k, k)), 1e-12 * scale));
+      for (int k = n; k < 4; ++k) D[k] = 1.0;
+      const Mat4 Hs = D.cwiseInverse().asDiagonal() * A * D.cwiseInverse().asDiagonal();
+      const Eigen::SelfAdjointEigenSolver<Mat4> eig(Hs);
+      const double shift = std::max(0.0, -eig.eigenvalues().minCoeff()) + 1e-2;
+      A.diagonal().array() += shift * D.cwiseAbs2().array();
       llt.compute(A);
     }
     // Pivots of H = L L^T are the squared diagonal of L.

@@ -16,13 +16,23 @@ namespace extremal {
 using Vec4 = Eigen::Vector4d;
 using Mat4 = Eigen::Matrix4d;
 
+// Which conditions the system expresses. Both vanish exactly at the extremal pair; they differ
+// in their Jacobian. The projection form (the seed's) loses rank at tangential contact (d = 0);
+// the normal form replaces the rows of the side opposite a reference surface R by
+// n_R . t_j (normals parallel), whose Jacobian stays regular through contact
+// (../shared/DESIGN.md section 2).
+enum class Formulation { Projection, Normal_of_a, Normal_of_b };
+
 struct Pair_system {
   int na = 0, nb = 0;  // parameter counts of A and B; params = [A's..., B's...]
+  Formulation form = Formulation::Projection;
   Feature_point a, b;  // both features at the parameters, in the world
   Vec3 d = Vec3::Zero();  // a.p - b.p
-  Vec4 phi = Vec4::Zero();
-  Mat4 M = Mat4::Identity();
-  Vec4 motion = Vec4::Zero();  // b of the design card
+  Vec3 normal_a = Vec3::Zero(), normal_b = Vec3::Zero();  // unit outward normals (surfaces)
+  Vec4 projection = Vec4::Zero();  // the seed's projection errors, whatever the form
+  Vec4 phi = Vec4::Zero();         // the conditions of `form`
+  Mat4 M = Mat4::Identity();       // d phi / d params
+  Vec4 motion = Vec4::Zero();      // d phi / dt at fixed parameters (b of the design card)
 
   int size() const { return na + nb; }
   // Tangent along parameter k (A's first, then B's).
@@ -35,9 +45,12 @@ struct Posed_feature {
   const Twist_3* twist;  // may be null: at rest
 };
 
-// Evaluates Phi, M and, when `with_motion`, b at `params`. No heap allocation.
+// Evaluates the conditions of `form`, M and, when `with_motion`, b at `params`. The normal
+// forms need a surface on the reference side (otherwise the projection form is used). No heap
+// allocation.
 void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec4& params,
-                       Pair_system& out, bool with_motion = true);
+                       Pair_system& out, bool with_motion = true,
+                       Formulation form = Formulation::Projection);
 
 // Seed's normalised projection errors Phi_k / (|d| |tangent_k|); zero where undefined.
 Vec4 normalised_projection_errors(const Pair_system& s);
@@ -70,6 +83,10 @@ struct Solve_mode {
   // Natural size of M's entries (the squared tangent lengths); M is singular when a pivot
   // falls below 1e-12 of it. Zero: the largest entry of M.
   double scale = 0.0;
+  // Damped least squares instead of a plain solve: directions in which M is (nearly) singular
+  // (a continuum of pairs, a pole) get no step, the rest the Newton step. Never fails on finite
+  // input.
+  bool damped = false;
 };
 
 // The Solve_mode for a pair system: seeking a minimum unless `minimum` is false.

@@ -45,7 +45,7 @@ int run_scene(const std::string& scene_path, const Report_options& options, std:
   pair_options.threshold = scene.threshold.value_or(0.0);
   Scene_stepper stepper(bodies, scene.pairs, pair_options);
 
-  if (write_header) csv << "t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,ua,va,ub,vb\n";
+  if (write_header) csv << "t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,detail,ua,va,ub,vb\n";
   std::vector<Summary> summaries(scene.pairs.size());
   const int steps = scene.step_count();
   for (int i = 0; i < steps; ++i) {
@@ -66,13 +66,15 @@ int run_scene(const std::string& scene_path, const Report_options& options, std:
                               {"normal", {r.normal.x(), r.normal.y(), r.normal.z()}},
                               {"face_a", r.feature_a}, {"face_b", r.feature_b},
                               {"params", {r.params[0], r.params[1], r.params[2], r.params[3]}},
-                              {"status", to_string(r.status)}});
+                              {"status", to_string(r.status)},
+                              {"detail", to_string(r.degeneracy)}});
         continue;
       }
       csv << format_number(t) << ',' << na << ',' << nb << ',' << format_number(r.distance);
       for (const Vec3* v : {&r.point_a, &r.point_b, &r.normal})
         for (int c = 0; c < 3; ++c) csv << ',' << format_number((*v)[c]);
-      csv << ',' << r.feature_a << ',' << r.feature_b << ',' << to_string(r.status);
+      csv << ',' << r.feature_a << ',' << r.feature_b << ',' << to_string(r.status) << ','
+          << to_string(r.degeneracy);
       for (int c = 0; c < 4; ++c) csv << ',' << format_number(r.params[c]);
       csv << '\n';
     }

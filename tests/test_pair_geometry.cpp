@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <Eigen/LU>
 #include <memory>
 #include <string>
 
@@ -65,6 +66,9 @@ Vec4 random_params(const Feature& a, const Feature& b, std::mt19937_64& rng) {
   return p;
 }
 
+const Formulation k_forms[3] = {Formulation::Projection, Formulation::Normal_of_a,
+                                Formulation::Normal_of_b};
+
 TEST(PairGeometry, JacobianMatchesCentralDifferences) {
   auto rng = test::seeded_rng();
   const auto all = sides();
@@ -74,23 +78,25 @@ TEST(PairGeometry, JacobianMatchesCentralDifferences) {
       const Feature A = sa.feature(), B = sb.feature();
       const int n = A.dimension() + B.dimension();
       if (n == 0) continue;
-      for (int trial = 0; trial < 5; ++trial) {
+      for (int trial = 0; trial < 15; ++trial) {
+        const Formulation form = k_forms[trial % 3];
         const Rigid_pose_3 XA = random_pose(rng, 2.0), XB = random_pose(rng, 2.0);
         const Vec4 p = random_params(A, B, rng);
         Pair_system s, sp, sm;
-        build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, p, s, false);
+        build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, p, s, false, form);
         for (int k = 0; k < n; ++k) {
           const double h = 1e-6;
           Vec4 pp = p, pm = p;
           pp[k] += h;
           pm[k] -= h;
-          build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, pp, sp, false);
-          build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, pm, sm, false);
+          build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, pp, sp, false, form);
+          build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, pm, sm, false, form);
           const Vec4 fd = (sp.phi - sm.phi) / (2 * h);
           for (int r = 0; r < n; ++r) {
             const double scale = 1.0 + s.M.col(k).cwiseAbs().maxCoeff();
             EXPECT_NEAR(s.M(r, k), fd[r], 1e-6 * scale)
-                << sa.name << "-" << sb.name << " trial " << trial << " M(" << r << "," << k << ")";
+                << sa.name << "-" << sb.name << " form " << static_cast<int>(s.form) << " trial "
+                << trial << " M(" << r << "," << k << ")";
           }
           ++checked;
         }
@@ -101,7 +107,27 @@ TEST(PairGeometry, JacobianMatchesCentralDifferences) {
         }
       }
     }
-  EXPECT_GT(checked, 100);
+  EXPECT_GT(checked, 300);
+}
+
+TEST(PairGeometry, NormalFormStaysRegularAtTangentialContact) {
+  // Two unit spheres touching at the origin: the projection form loses rank, the normal form
+  // does not.
+  const Nurbs_surface_3 sphere = make_sphere(1.0);
+  const Feature A = Feature::surface(sphere), B = Feature::surface(sphere);
+  const Rigid_pose_3 XA(Mat3::Identity(), Vec3(-1, 0, 0)), XB(Mat3::Identity(), Vec3(1, 0, 0));
+  // A's point at longitude 0 (+x), B's at longitude pi (-x), both on the equator.
+  const Vec4 p(0.0, 0.0, M_PI, 0.0);
+  Pair_system proj, normal;
+  build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, p, proj, false);
+  build_pair_system({&A, &XA, nullptr}, {&B, &XB, nullptr}, p, normal, false,
+                    Formulation::Normal_of_a);
+  ASSERT_NEAR(proj.d.norm(), 0.0, 1e-15);
+  EXPECT_EQ(normal.form, Formulation::Normal_of_a);
+  const double scale = proj.M.cwiseAbs().maxCoeff();
+  EXPECT_LT(std::abs(proj.M.determinant()), 1e-12 * std::pow(scale, 4));
+  EXPECT_GT(std::abs(normal.M.determinant()), 1e-3 * std::pow(normal.M.cwiseAbs().maxCoeff(), 4));
+  EXPECT_NEAR(normal.phi.norm(), 0.0, 1e-15);
 }
 
 TEST(PairGeometry, MotionTermMatchesTimeDifferences) {
@@ -113,7 +139,8 @@ TEST(PairGeometry, MotionTermMatchesTimeDifferences) {
       const Feature A = sa.feature(), B = sb.feature();
       const int n = A.dimension() + B.dimension();
       if (n == 0) continue;
-      for (int trial = 0; trial < 5; ++trial) {
+      for (int trial = 0; trial < 15; ++trial) {
+        const Formulation form = k_forms[trial % 3];
         const Rigid_pose_3 XA = random_pose(rng, 2.0), XB = random_pose(rng, 2.0);
         Twist_3 VA, VB;
         VA.linear = Vec3(nd(rng), nd(rng), nd(rng));
@@ -123,16 +150,17 @@ TEST(PairGeometry, MotionTermMatchesTimeDifferences) {
         if (trial == 0) VA = Twist_3{};  // one side static
         const Vec4 p = random_params(A, B, rng);
         Pair_system s, sp, sm;
-        build_pair_system({&A, &XA, &VA}, {&B, &XB, &VB}, p, s, true);
+        build_pair_system({&A, &XA, &VA}, {&B, &XB, &VB}, p, s, true, form);
         const double h = 1e-6;
         const Rigid_pose_3 XAp = advance(XA, VA, h), XAm = advance(XA, VA, -h);
         const Rigid_pose_3 XBp = advance(XB, VB, h), XBm = advance(XB, VB, -h);
-        build_pair_system({&A, &XAp, nullptr}, {&B, &XBp, nullptr}, p, sp, false);
-        build_pair_system({&A, &XAm, nullptr}, {&B, &XBm, nullptr}, p, sm, false);
+        build_pair_system({&A, &XAp, nullptr}, {&B, &XBp, nullptr}, p, sp, false, form);
+        build_pair_system({&A, &XAm, nullptr}, {&B, &XBm, nullptr}, p, sm, false, form);
         const Vec4 fd = (sp.phi - sm.phi) / (2 * h);
         for (int r = 0; r < n; ++r)
           EXPECT_NEAR(s.motion[r], fd[r], 1e-6 * (1.0 + std::abs(fd[r])))
-              << sa.name << "-" << sb.name << " trial " << trial << " b[" << r << "]";
+              << sa.name << "-" << sb.name << " form " << static_cast<int>(s.form) << " trial "
+              << trial << " b[" << r << "]";
       }
     }
 }
