@@ -85,6 +85,43 @@ bool Body_pair_tracker::is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3&
          m_options.threshold;
 }
 
+int Body_pair_tracker::feature_index(const Body& body, Element_kind kind, int element) const {
+  switch (kind) {
+    case Element_kind::Point: return 0;
+    case Element_kind::Face: return element;
+    case Element_kind::Curve: return static_cast<int>(body.faces.size()) + element;
+  }
+  return -1;
+}
+
+bool Body_pair_tracker::seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                         double tracked) {
+  if (!m_hierarchy_a) {
+    m_hierarchy_a = std::make_unique<Distance_hierarchy>(m_a);
+    m_hierarchy_b = std::make_unique<Distance_hierarchy>(m_b);
+  }
+  const Distance_result g =
+      extremal_distance(*m_hierarchy_a, X_WA, *m_hierarchy_b, X_WB, m_options.global, m_workspace);
+  ++m_report.audits;
+  if (g.element_a < 0 || g.element_b < 0) return false;
+  if (!(g.upper_bound < tracked - g.tolerance_used)) return false;
+  const Tracker_seed seed = tracker_seed(m_a, m_b, g);
+  const int fa = feature_index(m_a, seed.kind_a, seed.element_a);
+  const int fb = feature_index(m_b, seed.kind_b, seed.element_b);
+  if (fa < 0 || fa >= static_cast<int>(m_features_a.size()) || fb < 0 ||
+      fb >= static_cast<int>(m_features_b.size()))
+    return false;
+  for (Live& live : m_live)
+    if (live.fa == fa && live.fb == fb) {
+      live.tracker.reset(seed.params);  // another basin of the same feature pair
+      return true;
+    }
+  m_live.push_back({fa, fb,
+                    Extremal_tracker(m_features_a[fa], m_features_b[fb], seed.params,
+                                     m_options.tracker)});
+  return true;
+}
+
 void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
   m_live.clear();
   m_started = true;
@@ -143,6 +180,8 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
                       Extremal_tracker(m_features_a[s.fa], m_features_b[s.fb], s.params,
                                        m_options.tracker)});
   }
+  // The certified global pair, where sampling missed it.
+  if (seed_from_global(X_WA, X_WB, best)) ++m_report.reseeds;
 }
 
 const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
@@ -161,6 +200,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     return r;
   }
   if (!m_started) start(X_WA, X_WB);
+  ++m_steps;
   double best = std::numeric_limits<double>::infinity();
   for (Live& live : m_live) {
     const Track_result& tr = live.tracker.step(t, X_WA, V_A, X_WB, V_B, dt);
@@ -185,6 +225,9 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     }
   }
   r.trackers = static_cast<int>(m_live.size());
+  if (m_options.audit_every > 0 && m_steps % m_options.audit_every == 0 &&
+      seed_from_global(X_WA, X_WB, best))
+    ++r.reseeds;
   return r;
 }
 

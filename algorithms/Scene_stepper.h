@@ -13,7 +13,7 @@ namespace extremal {
 
 struct Scene_stepper_body {
   const Body* body;      // must outlive the stepper
-  const Motion* motion;  // must outlive the stepper
+  const Motion* motion;  // must outlive the stepper; the body sits at motion * body->placement
 };
 
 class Scene_stepper {
@@ -21,6 +21,7 @@ class Scene_stepper {
   Scene_stepper(std::vector<Scene_stepper_body> bodies, std::vector<std::pair<int, int>> pairs,
                 const Body_pair_options& options);
 
+  // Throws Invalid_input naming a body the trackers cannot work on (a mesh body).
   // The reports of all watched pairs at time t, then the trackers advance over [t, t + dt].
   const std::vector<Pair_report>& step(double t, double dt);
 

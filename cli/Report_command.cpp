@@ -10,6 +10,7 @@
 
 #include "algorithms/Scene_stepper.h"
 #include "cli/Commands.h"
+#include "io/Model_reader.h"
 #include "io/Scene.h"
 #include "kernel/Error.h"
 
@@ -35,7 +36,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 int run_scene(const std::string& scene_path, const Report_options& options, std::ostream& csv,
               nlohmann::json* json_rows, bool write_header) {
-  const io::Scene scene = io::read_scene(scene_path);
+  const io::Scene scene = io::read_scene(scene_path, io::load_bodies);
   std::vector<Scene_stepper_body> bodies;
   for (const auto& b : scene.bodies) bodies.push_back({&b.body, &b.motion});
   Body_pair_options pair_options;
@@ -43,6 +44,7 @@ int run_scene(const std::string& scene_path, const Report_options& options, std:
   pair_options.tracker.substeps = scene.tracker.substeps;
   pair_options.tracker.integrator = scene.tracker.rk4 ? Integrator::Rk4 : Integrator::Euler;
   pair_options.threshold = scene.threshold.value_or(0.0);
+  pair_options.audit_every = scene.tracker.audit_every;
   Scene_stepper stepper(bodies, scene.pairs, pair_options);
 
   if (write_header) csv << "t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,detail,ua,va,ub,vb\n";

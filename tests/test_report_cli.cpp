@@ -100,6 +100,40 @@ TEST(ReportCli, EllipsoidSceneMatchesTheCertifiedReference) {
   EXPECT_LE(worst, 1e-11);
 }
 
+TEST(ReportCli, StepPartThroughContactWithAudits) {
+  // The unit sphere of a real STEP file (its first body, centred at the origin) against a
+  // moving sphere that passes into it and out:
+  // signed distance |c| - 1 - 0.5 at every row, with global audits on.
+  const std::string step = std::string(EXTREMAL_SHARED_DATA) + "/step/bug24283_spheres.stp";
+  const std::string scene = write_scene("extremal_step_scene.json", R"({
+    "time": {"start": 0, "end": 3, "step": 0.001},
+    "bodies": [
+      {"name": "part", "file": ")" + step + R"("},
+      {"name": "ball", "shape": {"type": "sphere", "radius": 0.5},
+       "pose": {"position": [2.5, 0.2, 0]},
+       "motion": {"type": "keyframes", "keyframes": [
+         {"t": 0, "position": [2.5, 0.2, 0]}, {"t": 1.5, "position": [1.2, 0.2, 0]},
+         {"t": 3, "position": [2.5, 0.2, 0]}]}}
+    ],
+    "pairs": [["part/1", "ball"]],
+    "tracker": {"audit_every": 100}})");
+  const Cli_run r = run("report " + scene);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = parse_csv(r.out);
+  ASSERT_EQ(rows.size(), 3002u);
+  double worst = 0.0;
+  int penetrating = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const double t = std::stod(rows[i][0]);
+    const double x = t <= 1.5 ? 2.5 - 1.3 * t / 1.5 : 1.2 + 1.3 * (t - 1.5) / 1.5;
+    const double exact = std::hypot(x, 0.2) - 1.5;
+    worst = std::max(worst, std::abs(std::stod(rows[i][3]) - exact));
+    penetrating += rows[i][15] == "penetrating";
+  }
+  EXPECT_LE(worst, 1e-9);
+  EXPECT_GT(penetrating, 100);
+}
+
 TEST(ReportCli, BadSceneExitsOneAndNamesThePath) {
   const std::string scene = write_scene("extremal_bad.json", R"({
     "time": {"start": 0, "end": 1, "step": 0.1},
