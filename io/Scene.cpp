@@ -264,7 +264,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
   json root;
   try {
     root = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers that overflow
     err.fail("", std::string("not valid JSON: ") + e.what());
   }
   if (!root.is_object()) err.fail("", "the scene must be a JSON object");
