@@ -85,12 +85,25 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
     e.index = 0;
     e.feature = Feature::point(Vec3::Zero());
     m_elements.push_back(e);
+    m_trims.emplace_back();
     const double zero[2] = {0.0, 0.0};
     const std::vector<Eigen::Vector4d> one = {Eigen::Vector4d(0, 0, 0, 1)};
     add_piece(0, 0, 1, 1, zero, zero, one);
   }
-  for (std::size_t i = 0; i < body.faces.size(); ++i) {
-    const Nurbs_surface_3& s = body.faces[i].surface;
+  // Faces, then a mesh body's triangles as flat degree 1 x 1 patches (corners p0, p1, p2, p2).
+  std::vector<Nurbs_surface_3> triangles;
+  triangles.reserve(body.mesh.triangles.size());
+  for (const auto& t : body.mesh.triangles) {
+    const Point_3& p0 = body.mesh.vertices.at(t[0]);
+    const Point_3& p1 = body.mesh.vertices.at(t[1]);
+    const Point_3& p2 = body.mesh.vertices.at(t[2]);
+    triangles.emplace_back(1, 1, 2, 2, std::vector<Point_3>{p0, p2, p1, p2},
+                           std::vector<double>{0, 0, 1, 1}, std::vector<double>{0, 0, 1, 1});
+  }
+  const std::size_t face_count = body.faces.size() + triangles.size();
+  for (std::size_t i = 0; i < face_count; ++i) {
+    const bool is_face = i < body.faces.size();
+    const Nurbs_surface_3& s = is_face ? body.faces[i].surface : triangles[i - body.faces.size()];
     if (s.degree_u() + 1 > internal::k_max_net_side || s.degree_v() + 1 > internal::k_max_net_side) {
       std::ostringstream os;
       os << "body '" << body.name << "' face " << i << ": degree " << s.degree_u() << " x "
@@ -103,6 +116,17 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
     e.kind = Element_kind::Face;
     e.index = static_cast<int>(i);
     e.feature = Feature::surface(*m_surfaces.back());
+    m_trims.emplace_back();
+    if (is_face && body.faces[i].trim_region.is_trimmed()) {
+      const Trim_region& tr = body.faces[i].trim_region;
+      m_trims.back() = tr;
+      e.trimmed = true;
+      const double band = tr.tolerance();
+      e.trim_lo[0] = tr.u_min() - band;
+      e.trim_lo[1] = tr.v_min() - band;
+      e.trim_hi[0] = tr.u_max() + band;
+      e.trim_hi[1] = tr.v_max() + band;
+    }
     const int element = static_cast<int>(m_elements.size());
     m_elements.push_back(e);
     const Bezier_patches bp = extract_bezier(s);
@@ -128,16 +152,66 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
     e.feature = Feature::curve(*m_curves.back());
     const int element = static_cast<int>(m_elements.size());
     m_elements.push_back(e);
+    m_trims.emplace_back();
     for (const Nurbs_curve_3& piece : extract_bezier(c)) {
       const double lo[2] = {piece.domain_min(), 0.0};
       const double hi[2] = {piece.domain_max(), 0.0};
       add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
     }
   }
+  // B-rep edges: the trim boundaries in 3D, restricted to the edge's parameter range.
+  for (std::size_t k = 0; k < body.edges.size(); ++k) {
+    const Edge& edge = body.edges[k];
+    if (!edge.curve) continue;  // degenerate (a pole): its point lies on the faces' pieces
+    Nurbs_curve_3 c = *edge.curve;
+    const double t0 = std::max(edge.t_min, c.domain_min());
+    const double t1 = std::min(edge.t_max, c.domain_max());
+    if (!(t0 < t1)) continue;
+    if (t0 > c.domain_min()) c = split(c, t0).second;
+    if (t1 < c.domain_max()) c = split(c, t1).first;
+    if (c.degree() + 1 > internal::k_max_net_side) {
+      std::ostringstream os;
+      os << "body '" << body.name << "' edge " << k << ": degree " << c.degree()
+         << " is above the global distance solver's limit of " << internal::k_max_net_side - 1;
+      throw Invalid_input(os.str());
+    }
+    m_curves.push_back(std::make_unique<Nurbs_curve_3>(std::move(c)));
+    Element e;
+    e.kind = Element_kind::Curve;
+    e.index = static_cast<int>(body.curves.size() + k);
+    e.feature = Feature::curve(*m_curves.back());
+    const int element = static_cast<int>(m_elements.size());
+    m_elements.push_back(e);
+    m_trims.emplace_back();
+    for (const Nurbs_curve_3& piece : extract_bezier(*m_curves.back())) {
+      const double lo[2] = {piece.domain_min(), 0.0};
+      const double hi[2] = {piece.domain_max(), 0.0};
+      add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
+    }
+  }
+  if (m_pieces.empty())
+    throw Invalid_input("body '" + body.name + "' has no point, face or curve to measure from");
   std::vector<int> ids(m_pieces.size());
   std::iota(ids.begin(), ids.end(), 0);
   m_tree.reserve(2 * m_pieces.size());
   build_tree(ids, 0, static_cast<int>(ids.size()));
+}
+
+bool Distance_hierarchy::on_body(int e, const double* q) const {
+  const Element& el = m_elements[e];
+  if (el.kind != Element_kind::Face || !el.trimmed) return true;
+  const Nurbs_surface_3& s = *el.feature.surface();
+  return q[0] >= s.u_min() && q[0] <= s.u_max() && q[1] >= s.v_min() && q[1] <= s.v_max() &&
+         m_trims[e].contains(q[0], q[1]);
+}
+
+bool Distance_hierarchy::may_hold_trimmed(int e, const double* lo, const double* hi) const {
+  const Element& el = m_elements[e];
+  if (el.kind != Element_kind::Face || !el.trimmed) return true;
+  if (hi[0] < el.trim_lo[0] || lo[0] > el.trim_hi[0] || hi[1] < el.trim_lo[1] ||
+      lo[1] > el.trim_hi[1])
+    return false;
+  return !m_trims[e].box_outside(lo[0], lo[1], hi[0], hi[1]);
 }
 
 int Distance_hierarchy::build_tree(std::vector<int>& ids, int begin, int end) {
@@ -500,20 +574,24 @@ void Solver::offer(double dist, const Vec3& pa, const Vec3& pb, int ea, const do
 void Solver::corner_candidates(const Live_node& a, const Live_node& b) {
   const Vec3* ca = m_side[0].cart(a);
   const Vec3* cb = m_side[1].cart(b);
+  const Distance_hierarchy& ha = *m_side[0].h;
+  const Distance_hierarchy& hb = *m_side[1].h;
   double best = HUGE_VAL;
-  int bi = 0, bj = 0;
+  int bi = -1, bj = -1;
   for (int i = 0; i < corner_count(a); ++i) {
     double q[2];
     const Vec3& p = ca[corner(a, i, q)];
+    if (!ha.on_body(a.element, q)) continue;  // outside the trim: not on the body
     for (int j = 0; j < corner_count(b); ++j) {
       const double d2 = (cb[corner(b, j, q)] - p).squaredNorm();
-      if (d2 < best) {
+      if (d2 < best && hb.on_body(b.element, q)) {
         best = d2;
         bi = i;
         bj = j;
       }
     }
   }
+  if (bi < 0) return;
   double qa[2], qb[2];
   const Vec3 pa = ca[corner(a, bi, qa)];
   const Vec3 pb = cb[corner(b, bj, qb)];
@@ -554,6 +632,7 @@ void Solver::polish(const Live_node& a, const Live_node& b) {
   double qa[2] = {0, 0}, qb[2] = {0, 0};
   for (int k = 0; k < a.dim; ++k) qa[k] = r.params[k];
   for (int k = 0; k < b.dim; ++k) qb[k] = r.params[a.dim + k];
+  if (!m_side[0].h->on_body(a.element, qa) || !m_side[1].h->on_body(b.element, qb)) return;
   offer(d, xa.p, xb.p, a.element, qa, b.element, qb);
 }
 
@@ -588,6 +667,8 @@ bool Solver::try_intersection(int ea, int eb, Vec4 x) {
       double qa[2] = {x[0], na > 1 ? x[1] : 0.0}, qb[2] = {x[na], nb > 1 ? x[na + 1] : 0.0};
       if (na == 0) qa[0] = 0.0;
       if (nb == 0) qb[0] = qb[1] = 0.0;
+      // A common point of the untrimmed patches outside a trim is not a common point.
+      if (!m_side[0].h->on_body(ea, qa) || !m_side[1].h->on_body(eb, qb)) return false;
       const Vec3 mid = 0.5 * (xa.p + xb.p);
       m_best.distance = 0.0;
       m_best.pa = m_best.pb = mid;
@@ -745,6 +826,12 @@ Distance_result Solver::run() {
     for (int k = 0; k < 2; ++k) {
       const int ia = which == 0 ? c[k] : top.a;
       const int ib = which == 1 ? c[k] : top.b;
+      {  // a piece of a trimmed face whose parameter box misses the trim holds nothing
+        const Live_node& child = m_side[which].pools->nodes[c[k]];
+        if (child.is_net() &&
+            !m_side[which].h->may_hold_trimmed(child.element, child.lo, child.hi))
+          continue;
+      }
       const double cutoff = m_best.distance - k_prune * tolerance();
       const double L = std::max(
           top.lower,
@@ -842,10 +929,15 @@ Feature feature_of(const Body& body, Element_kind kind, int index, const char* w
       EXTREMAL_PRECONDITION_MSG(index >= 0 && index < static_cast<int>(body.faces.size()),
                                 "body " << which << " '" << body.name << "' has no face " << index);
       return Feature::surface(body.faces[index].surface);
-    case Element_kind::Curve:
-      EXTREMAL_PRECONDITION_MSG(index >= 0 && index < static_cast<int>(body.curves.size()),
+    case Element_kind::Curve: {
+      const int nc = static_cast<int>(body.curves.size());
+      if (index >= nc && index - nc < static_cast<int>(body.edges.size()) &&
+          body.edges[index - nc].curve)  // a B-rep edge's 3D curve
+        return Feature::curve(*body.edges[index - nc].curve);
+      EXTREMAL_PRECONDITION_MSG(index >= 0 && index < nc,
                                 "body " << which << " '" << body.name << "' has no curve " << index);
       return Feature::curve(body.curves[index]);
+    }
   }
   return Feature::point(Vec3::Zero());
 }

@@ -6,6 +6,12 @@
 // distance of a witness pair of points that lie on the bodies, and the gap upper - lower is within
 // the requested tolerance (status Converged) or the result says why not.
 //
+// Trimmed faces (imported CAD): a face's pieces cover its whole underlying patch, so a witness on
+// a face counts only where Face::contains holds (Trim_region, with its On_boundary band), and the
+// B-rep edges' 3D curves (Body::edges, over [t_min, t_max]) are curve elements, which carry the
+// minima on trim boundaries. Hull bounds of a piece of a trimmed face stay valid lower bounds
+// for its trimmed part; a piece whose parameter box lies wholly outside the trim is dropped.
+//
 // Method. Every face and curve is cut into its Bezier pieces once, in the body frame, and the
 // pieces are put in a bounding-volume tree (Distance_hierarchy). A query places both trees in the
 // world and runs a best-first branch and bound over pairs of nodes:
@@ -51,8 +57,15 @@ class Distance_hierarchy {
  public:
   struct Element {
     Element_kind kind = Element_kind::Face;
-    int index = -1;  // into Body::faces or Body::curves; 0 for the point of a point body
+    // Face: into Body::faces, or faces.size() + t for triangle t of Body::mesh (a mesh body's
+    // triangles are flat degree 1 x 1 patches). Curve: into Body::curves, or curves.size() + k
+    // for the 3D curve of B-rep edge k (Body::edges, restricted to [t_min, t_max]). Point: 0.
+    int index = -1;
     Feature feature = Feature::point(Vec3::Zero());  // refers to the geometry owned here
+    // Face with trim loops: only parameters inside the trim (Face::contains) are on the body;
+    // the trim's parameter box [trim_lo, trim_hi] (with the On_boundary band) holds them all.
+    bool trimmed = false;
+    double trim_lo[2] = {0, 0}, trim_hi[2] = {0, 0};
   };
   struct Piece {  // one Bezier piece, body frame
     int element = -1;
@@ -84,6 +97,12 @@ class Distance_hierarchy {
   const Eigen::Vector4d* poles() const { return m_poles.data(); }
   // Box of all control points, body frame.
   const Bbox_3& box() const { return m_tree.front().box; }
+  // Whether parameters q of element e lie on the body: inside the patch domain and the trim for
+  // a face, inside the domain for a curve; always for the point.
+  bool on_body(int e, const double* q) const;
+  // False only when the parameter box [lo, hi] of a piece of element e holds no point of the
+  // trimmed face (Trim_region::box_outside): such nodes can be dropped.
+  bool may_hold_trimmed(int e, const double* lo, const double* hi) const;
 
  private:
   int build_tree(std::vector<int>& piece_ids, int begin, int end);
@@ -92,6 +111,7 @@ class Distance_hierarchy {
   // Owned geometry (Elements' features point here; unique_ptr keeps addresses stable).
   std::vector<std::unique_ptr<Nurbs_surface_3>> m_surfaces;
   std::vector<std::unique_ptr<Nurbs_curve_3>> m_curves;
+  std::vector<Trim_region> m_trims;  // per element; untrimmed for curves, points, bare faces
   std::vector<Element> m_elements;
   std::vector<Piece> m_pieces;
   std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> m_poles;

@@ -1,6 +1,8 @@
 // `extremal distance A B [--pose-a P] [--pose-b P] [--tolerance E] [--json]`: one-shot certified
-// extremal distance (../shared/CLI.md). A and B are shape specs or files; a file that holds several
-// bodies counts as their union (the witness names the body it lies on).
+// extremal distance (../shared/CLI.md). A and B are shape specs or files (read_model: STEP, IGES,
+// BREP, OBJ, meshes); a file that holds several bodies counts as the union of all its bodies (the
+// JSON `body_a` / `body_b` names the body the witness lies on), each body placed by its file
+// placement composed with --pose-a / --pose-b.
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -11,6 +13,7 @@
 
 #include "algorithms/Global_distance.h"
 #include "cli/Commands.h"
+#include "io/Model_reader.h"
 #include "io/Shape_spec.h"
 #include "kernel/Error.h"
 
@@ -30,8 +33,26 @@ std::vector<Body> load_bodies(const std::string& target, const char* which) {
       throw Invalid_input(std::string(which) + " '" + target + "': " + e.what());
     }
   }
-  throw Invalid_input(std::string(which) + " '" + target +
-                      "': cannot open file (CAD import is not built yet)");
+  io::Model model;
+  try {
+    // A tight trim band: points within the band count as on the face, and the trim boundary
+    // edges only carry minima on the exact boundary, so the band bounds how far the certificate
+    // can close near a boundary (1e-9 of each face's parameter extent).
+    io::Read_options read;
+    read.trim_tolerance = 1e-9;
+    model = io::read_model(target, read);
+  } catch (const Invalid_input& e) {
+    throw Invalid_input(std::string(which) + " '" + target + "': " + e.what());
+  } catch (const std::exception& e) {
+    throw Invalid_input(std::string(which) + " '" + target + "': cannot read: " + e.what());
+  }
+  std::vector<Body> out;
+  for (Body& b : model.bodies)
+    if (!b.is_empty()) out.push_back(std::move(b));
+  if (out.empty())
+    throw Invalid_input(std::string(which) + " '" + target +
+                        "': the file holds no body with a face, curve or triangle");
+  return out;
 }
 
 Rigid_pose_3 load_pose(const std::string& text, const char* option) {
@@ -68,8 +89,22 @@ int run_distance(const Distance_options& options) {
     const Rigid_pose_3 X_WB = load_pose(options.pose_b, "--pose-b");
 
     std::vector<Distance_hierarchy> ha, hb;
-    for (const Body& b : bodies_a) ha.emplace_back(b);
-    for (const Body& b : bodies_b) hb.emplace_back(b);
+    auto build = [](const std::vector<Body>& bodies, std::vector<Distance_hierarchy>& h,
+                    const std::string& target) {
+      for (const Body& b : bodies) {
+        try {
+          h.emplace_back(b);
+        } catch (const Invalid_input& e) {
+          throw Invalid_input("'" + target + "': " + e.what());
+        }
+      }
+    };
+    build(bodies_a, ha, options.a);
+    build(bodies_b, hb, options.b);
+    // World pose of each body: the argument's pose after the body's placement in its file.
+    std::vector<Rigid_pose_3> poses_a, poses_b;
+    for (const Body& b : bodies_a) poses_a.push_back(X_WA * b.placement);
+    for (const Body& b : bodies_b) poses_b.push_back(X_WB * b.placement);
 
     Distance_request request;
     request.absolute_tolerance = options.tolerance;  // CLI.md: d within the tolerance
@@ -79,7 +114,7 @@ int run_distance(const Distance_options& options) {
     Best best;
     for (std::size_t i = 0; i < ha.size(); ++i)
       for (std::size_t j = 0; j < hb.size(); ++j) {
-        const Distance_result r = extremal_distance(ha[i], X_WA, hb[j], X_WB, request, ws);
+        const Distance_result r = extremal_distance(ha[i], poses_a[i], hb[j], poses_b[j], request, ws);
         best.lower = std::min(best.lower, r.lower_bound);
         best.all_certified = best.all_certified && r.is_certified();
         if (!best.any || r.upper_bound < best.result.upper_bound) {

@@ -19,7 +19,10 @@ int main(int argc, char** argv) {
   extremal::cli::Distance_options distance;
   CLI::App* distance_cmd =
       app.add_subcommand("distance", "One-shot certified extremal distance between two bodies");
-  distance_cmd->add_option("A", distance.a, "File or shape spec (point, sphere:r, ...)")->required();
+  distance_cmd->add_option("A", distance.a,
+                           "File (STEP, IGES, BREP, OBJ, STL, ...; all its bodies as one set, "
+                           "JSON body_a names the witness's body) or shape spec (point, "
+                           "sphere:r, ...)")->required();
   distance_cmd->add_option("B", distance.b, "File or shape spec")->required();
   distance_cmd->add_option("--pose-a", distance.pose_a, "Pose of A: x,y,z[,qw,qx,qy,qz]");
   distance_cmd->add_option("--pose-b", distance.pose_b, "Pose of B: x,y,z[,qw,qx,qy,qz]");

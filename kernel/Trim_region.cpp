@@ -178,4 +178,47 @@ Trim_location Trim_region::locate(double u, double v) const {
   return inside ? Trim_location::Inside : Trim_location::Outside;
 }
 
+bool Trim_region::box_outside(double u0, double v0, double u1, double v1) const {
+  if (m_seg.empty()) return false;
+  if (!(std::isfinite(u0) && std::isfinite(v0) && std::isfinite(u1) && std::isfinite(v1)))
+    return false;
+  // The box grown by the band (and a little more for rounding): a segment that misses it is
+  // farther than the tolerance from every point of the box.
+  const double g = 1.01 * m_tol + 1e-15 * (std::abs(m_umax) + std::abs(m_vmax) + 1.0);
+  const double bu0 = u0 - g, bu1 = u1 + g, bv0 = v0 - g, bv1 = v1 + g;
+  if (bu1 < m_umin || bu0 > m_umax || bv1 < m_vmin || bv0 > m_vmax) return true;
+  const double lo = m_vmin - m_tol;
+  auto slab_of = [&](double v) {
+    return static_cast<int>(std::clamp(std::floor((v - lo) / m_slab_h), 0.0,
+                                       static_cast<double>(m_slabs - 1)));
+  };
+  const int ka = slab_of(bv0), kb = slab_of(bv1);
+  for (int k = ka; k <= kb; ++k)
+    for (int i = m_slab_start[k]; i < m_slab_start[k + 1]; ++i) {
+      const Segment& s = m_seg[m_slab_seg[i]];
+      // Liang-Barsky clip of the segment against the grown box.
+      double t0 = 0.0, t1 = 1.0;
+      const double du = s.u1 - s.u0, dv = s.v1 - s.v0;
+      const double p[4] = {-du, du, -dv, dv};
+      const double q[4] = {s.u0 - bu0, bu1 - s.u0, s.v0 - bv0, bv1 - s.v0};
+      bool hit = true;
+      for (int e = 0; e < 4 && hit; ++e) {
+        if (p[e] == 0.0) {
+          if (q[e] < 0.0) hit = false;
+        } else {
+          const double r = q[e] / p[e];
+          if (p[e] < 0.0) {
+            if (r > t1) hit = false;
+            else t0 = std::max(t0, r);
+          } else {
+            if (r < t0) hit = false;
+            else t1 = std::min(t1, r);
+          }
+        }
+      }
+      if (hit) return false;
+    }
+  return locate(0.5 * (u0 + u1), 0.5 * (v0 + v1)) == Trim_location::Outside;
+}
+
 }  // namespace extremal

@@ -62,6 +62,10 @@ class Trim_region {
   Trim_location locate(double u, double v) const;
   // Inside or On_boundary.
   bool contains(double u, double v) const { return locate(u, v) != Trim_location::Outside; }
+  // True when every point of the box [u0, u1] x [v0, v1] is Outside (no point of the box is
+  // within the tolerance of a loop, and its centre is Outside): a certified "the box holds no
+  // point of the face", for pruning. False for untrimmed regions. No heap allocation.
+  bool box_outside(double u0, double v0, double u1, double v1) const;
 
  private:
   struct Segment {
