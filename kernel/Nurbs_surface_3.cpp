@@ -108,50 +108,59 @@ Nurbs_surface_3 Nurbs_surface_3::from_homogeneous(int degree_u, int degree_v, in
                          std::move(knots_v), std::move(ws));
 }
 
-void Nurbs_surface_3::evaluate(double u, double v, Surface_point& out, int order) const {
-  EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
-                            "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
-  EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
-                            "v = " << v << " outside [" << v_min() << ", " << v_max() << "]");
-  EXTREMAL_PRECONDITION(order >= 0 && order <= 2);
-  const int p = m_degree_u, q = m_degree_v;
-  const int su = internal::find_span(m_knots_u.data(), m_n_u, p, u);
-  const int sv = internal::find_span(m_knots_v.data(), m_n_v, q, v);
-  internal::Basis_derivatives Nu, Nv;
-  internal::basis_derivatives(m_knots_u.data(), su, p, u, order, Nu);
-  internal::basis_derivatives(m_knots_v.data(), sv, q, v, order, Nv);
+namespace {
 
-  // S[k][l] = d^(k+l) / du^k dv^l of the homogeneous surface, k + l <= order.
+// The tensor-product sum and the quotient rule at (u, v) in spans (su, sv). P, Q > 0 fix the
+// degrees at compile time (arrays sized to them, loops unrolled); 0 takes them from p, q. Order
+// is the derivative order. Every instance does the same operations in the same order, so the
+// results do not depend on which one runs.
+template <int P, int Q, int Order>
+void evaluate_in_span(const Eigen::Vector4d* hom, int n_v, const double* knots_u,
+                      const double* knots_v, int p, int q, int su, int sv, double u, double v,
+                      bool rational, Surface_point& out) {
+  if constexpr (P > 0) p = P;
+  if constexpr (Q > 0) q = Q;
+  internal::Basis_derivatives Nu, Nv;
+  if constexpr (P > 0)
+    internal::basis_derivatives_impl<P>(knots_u, su, p, u, Order, Nu);
+  else
+    internal::basis_derivatives(knots_u, su, p, u, Order, Nu);
+  if constexpr (Q > 0)
+    internal::basis_derivatives_impl<Q>(knots_v, sv, q, v, Order, Nv);
+  else
+    internal::basis_derivatives(knots_v, sv, q, v, Order, Nv);
+
+  // S[k][l] = d^(k+l) / du^k dv^l of the homogeneous surface, k + l <= Order.
   Eigen::Vector4d S[3][3];
-  for (int k = 0; k <= order; ++k)
-    for (int l = 0; l + k <= order; ++l) S[k][l].setZero();
+  for (int k = 0; k <= Order; ++k)
+    for (int l = 0; l + k <= Order; ++l) S[k][l].setZero();
   for (int i = 0; i <= p; ++i) {
-    const Eigen::Vector4d* row = &m_hom[static_cast<std::size_t>(su - p + i) * m_n_v + (sv - q)];
+    const Eigen::Vector4d* row = hom + static_cast<std::size_t>(su - p + i) * n_v + (sv - q);
     Eigen::Vector4d t0 = Eigen::Vector4d::Zero(), t1 = Eigen::Vector4d::Zero(),
                     t2 = Eigen::Vector4d::Zero();
     for (int j = 0; j <= q; ++j) {
       t0 += Nv.ders[0][j] * row[j];
-      if (order >= 1) t1 += Nv.ders[1][j] * row[j];
-      if (order >= 2) t2 += Nv.ders[2][j] * row[j];
+      if constexpr (Order >= 1) t1 += Nv.ders[1][j] * row[j];
+      if constexpr (Order >= 2) t2 += Nv.ders[2][j] * row[j];
     }
     S[0][0] += Nu.ders[0][i] * t0;
-    if (order >= 1) {
+    if constexpr (Order >= 1) {
       S[1][0] += Nu.ders[1][i] * t0;
       S[0][1] += Nu.ders[0][i] * t1;
     }
-    if (order >= 2) {
+    if constexpr (Order >= 2) {
       S[2][0] += Nu.ders[2][i] * t0;
       S[1][1] += Nu.ders[1][i] * t1;
       S[0][2] += Nu.ders[0][i] * t2;
     }
   }
-  if (!m_rational) {
+  if (!rational) {
     out.p = S[0][0].head<3>();
-    if (order >= 1) {
+    if constexpr (Order >= 1) {
       out.du = S[1][0].head<3>();
       out.dv = S[0][1].head<3>();
     }
-    if (order >= 2) {
+    if constexpr (Order >= 2) {
       out.duu = S[2][0].head<3>();
       out.duv = S[1][1].head<3>();
       out.dvv = S[0][2].head<3>();
@@ -161,15 +170,54 @@ void Nurbs_surface_3::evaluate(double u, double v, Surface_point& out, int order
   // Quotient rule on A / w, A the Cartesian part of the homogeneous derivatives.
   const double inv = 1.0 / S[0][0].w();
   out.p = S[0][0].head<3>() * inv;
-  if (order >= 1) {
+  if constexpr (Order >= 1) {
     const double wu = S[1][0].w(), wv = S[0][1].w();
     out.du = (S[1][0].head<3>() - wu * out.p) * inv;
     out.dv = (S[0][1].head<3>() - wv * out.p) * inv;
-    if (order >= 2) {
+    if constexpr (Order >= 2) {
       out.duu = (S[2][0].head<3>() - 2.0 * wu * out.du - S[2][0].w() * out.p) * inv;
       out.duv = (S[1][1].head<3>() - wu * out.dv - wv * out.du - S[1][1].w() * out.p) * inv;
       out.dvv = (S[0][2].head<3>() - 2.0 * wv * out.dv - S[0][2].w() * out.p) * inv;
     }
+  }
+}
+
+// Compile-time degrees for the common low-degree patches (planes, conics, bicubics).
+template <int Order>
+void evaluate_dispatch(const Eigen::Vector4d* hom, int n_v, const double* knots_u,
+                       const double* knots_v, int p, int q, int su, int sv, double u, double v,
+                       bool rational, Surface_point& out) {
+#define EXTREMAL_SPAN_CASE(PP, QQ)                                                           \
+  if (p == PP && q == QQ)                                                                    \
+    return evaluate_in_span<PP, QQ, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, \
+                                           rational, out)
+  EXTREMAL_SPAN_CASE(3, 3);
+  EXTREMAL_SPAN_CASE(2, 2);
+  EXTREMAL_SPAN_CASE(2, 1);
+  EXTREMAL_SPAN_CASE(1, 2);
+  EXTREMAL_SPAN_CASE(1, 1);
+#undef EXTREMAL_SPAN_CASE
+  evaluate_in_span<0, 0, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, rational, out);
+}
+
+}  // namespace
+
+void Nurbs_surface_3::evaluate(double u, double v, Surface_point& out, int order) const {
+  EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
+                            "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
+  EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
+                            "v = " << v << " outside [" << v_min() << ", " << v_max() << "]");
+  EXTREMAL_PRECONDITION(order >= 0 && order <= 2);
+  const int p = m_degree_u, q = m_degree_v;
+  const int su = internal::find_span(m_knots_u.data(), m_n_u, p, u);
+  const int sv = internal::find_span(m_knots_v.data(), m_n_v, q, v);
+  const Eigen::Vector4d* hom = m_hom.data();
+  const double* ku = m_knots_u.data();
+  const double* kv = m_knots_v.data();
+  switch (order) {
+    case 0: return evaluate_dispatch<0>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, out);
+    case 1: return evaluate_dispatch<1>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, out);
+    default: return evaluate_dispatch<2>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, out);
   }
 }
 

@@ -36,12 +36,18 @@ struct Basis_derivatives {
   double ders[3][k_max_degree + 1];
 };
 
-inline void basis_derivatives(const double* knots, int k, int p, double t, int nd,
-                              Basis_derivatives& out) {
-  double left[k_max_degree + 1];
-  double right[k_max_degree + 1];
+// The algorithm, for a degree known at compile time (Fixed > 0: arrays sized to it, loops the
+// compiler can unroll) or at run time (Fixed == 0). Both do the same operations in the same
+// order, so their results are identical.
+template <int Fixed>
+inline void basis_derivatives_impl(const double* knots, int k, int p_run, double t, int nd,
+                                   Basis_derivatives& out) {
+  const int p = Fixed > 0 ? Fixed : p_run;
+  constexpr int cap = Fixed > 0 ? Fixed : k_max_degree;
+  double left[cap + 1];
+  double right[cap + 1];
   // ndu[j][r]: upper triangle holds basis functions, lower triangle knot differences.
-  double ndu[k_max_degree + 1][k_max_degree + 1];
+  double ndu[cap + 1][cap + 1];
   ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[j] = t - knots[k + 1 - j];
@@ -61,7 +67,8 @@ inline void basis_derivatives(const double* knots, int k, int p, double t, int n
   nd = std::min(nd, p);
   if (nd == 0) return;
 
-  double a[2][k_max_degree + 1];
+  // Every entry read was written first; the initialiser only quiets -Wmaybe-uninitialized.
+  double a[2][cap + 1] = {};
   for (int r = 0; r <= p; ++r) {
     int s1 = 0, s2 = 1;
     a[0][0] = 1.0;
@@ -90,6 +97,17 @@ inline void basis_derivatives(const double* knots, int k, int p, double t, int n
   for (int kk = 1; kk <= nd; ++kk) {
     for (int j = 0; j <= p; ++j) out.ders[kk][j] *= factor;
     factor *= (p - kk);
+  }
+}
+
+// Degrees 1 to 3 (planes, conics, bicubics) take the compile-time version.
+inline void basis_derivatives(const double* knots, int k, int p, double t, int nd,
+                              Basis_derivatives& out) {
+  switch (p) {
+    case 1: return basis_derivatives_impl<1>(knots, k, p, t, nd, out);
+    case 2: return basis_derivatives_impl<2>(knots, k, p, t, nd, out);
+    case 3: return basis_derivatives_impl<3>(knots, k, p, t, nd, out);
+    default: return basis_derivatives_impl<0>(knots, k, p, t, nd, out);
   }
 }
 
