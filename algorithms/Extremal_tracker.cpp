@@ -75,11 +75,21 @@ Formulation Extremal_tracker::choose_form() const {
   return m_in_band ? m_normal_form : Formulation::Projection;
 }
 
-double Extremal_tracker::signed_distance() const {
+double Extremal_tracker::signed_distance(const Vec4& params) const {
+  // Inside when d points against the reference face's outward normal at an interior point of
+  // the face. On a face edge the normal says nothing about the solid (beside a cylinder's cap
+  // rim, say, d points below the cap's plane while the bodies are apart): positive there.
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = ab.norm();
-  if (m_a.dimension() == 2) return ab.dot(m_system.normal_a) < 0.0 ? -len : len;
-  if (m_b.dimension() == 2) return ab.dot(m_system.normal_b) > 0.0 ? -len : len;
+  auto on_edge = [&](int first, int count) {
+    Vec4 p = params;
+    const unsigned mask = m_domain.clamp(p) & ~m_pole_bounds;
+    return (mask >> first) & ((1u << count) - 1u);
+  };
+  if (m_a.dimension() == 2)
+    return ab.dot(m_system.normal_a) < 0.0 && !on_edge(0, 2) ? -len : len;
+  if (m_b.dimension() == 2)
+    return ab.dot(m_system.normal_b) > 0.0 && !on_edge(m_a.dimension(), 2) ? -len : len;
   return len;
 }
 
@@ -126,11 +136,12 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   const unsigned on_bound = m_domain.clamp(p) & ~m_pole_bounds;
   const unsigned lower = m_domain.lower_mask(p);
   Solve_mode mode = solve_mode_for(m_system);
+  mode.scaled_shift = true;
   // Seek a minimum in the projection form while apart. The penetration pair is a saddle and
   // is tracked as such, but only once the pair is nearly converged: far from it the sign of
   // the distance means nothing yet.
   mode.minimum = m_system.form == Formulation::Projection &&
-                 (signed_distance() >= 0.0 ||
+                 (signed_distance(params) >= 0.0 ||
                   normalised_projection_errors(m_system).cwiseAbs().maxCoeff() > 0.1);
   if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) {
     degeneracy = classify_singular();
@@ -180,7 +191,8 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     if (normalised_projection_errors(m_system).cwiseAbs().maxCoeff() <=
         m_options.correction_tolerance)
       break;
-    const bool minimum = m_system.form == Formulation::Projection && signed_distance() >= 0.0;
+    const bool minimum =
+        m_system.form == Formulation::Projection && signed_distance(m_params) >= 0.0;
     const double before = merit(minimum);
     Vec4 U;
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
@@ -205,7 +217,7 @@ void Extremal_tracker::fill_result(double t) {
   r.params = m_params;
   r.point_a = m_system.a.p;
   r.point_b = m_system.b.p;
-  r.distance = signed_distance();
+  r.distance = signed_distance(m_params);
   if (r.distance != 0.0) {
     r.normal = (r.point_b - r.point_a) / r.distance;
   } else if (m_a.dimension() == 2) {

@@ -102,7 +102,8 @@ class Extremal_tracker {
                const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt, Vec4& U,
                Degeneracy& degeneracy);
   Formulation choose_form() const;
-  double signed_distance() const;
+  // Signed |d| for the system last built, at `params`.
+  double signed_distance(const Vec4& params) const;
   Degeneracy classify_singular() const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;

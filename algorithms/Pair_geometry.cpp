@@ -201,16 +201,24 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
     A = (0.5 * (A + A.transpose())).eval();
     Eigen::LLT<Mat4> llt(A);
     if (llt.info() != Eigen::Success) {
-      // Not a minimum here: shift H to positive definite, in Jacobi-scaled form so that a
-      // direction of small curvature (near a pole, say) keeps its Newton step instead of being
-      // swamped by the stiff ones. Padding and frozen rows are identity and stay so.
-      Vec4 D;
-      for (int k = 0; k < 4; ++k) D[k] = std::sqrt(std::max(std::abs(A(k, k)), 1e-12 * scale));
-      for (int k = n; k < 4; ++k) D[k] = 1.0;
-      const Mat4 Hs = D.cwiseInverse().asDiagonal() * A * D.cwiseInverse().asDiagonal();
-      const Eigen::SelfAdjointEigenSolver<Mat4> eig(Hs);
-      const double shift = std::max(0.0, -eig.eigenvalues().minCoeff()) + 1e-2;
-      A.diagonal().array() += shift * D.cwiseAbs2().array();
+      // Not a minimum here: shift H to positive definite.
+      if (mode.scaled_shift) {
+        // Jacobi-scaled, so a direction of small curvature (near a pole) keeps its Newton step
+        // instead of being swamped by the stiff ones. Padding rows are identity and stay so.
+        Vec4 D;
+        for (int k = 0; k < 4; ++k) D[k] = std::sqrt(std::max(std::abs(A(k, k)), 1e-12 * scale));
+        for (int k = n; k < 4; ++k) D[k] = 1.0;
+        const Mat4 Hs = D.cwiseInverse().asDiagonal() * A * D.cwiseInverse().asDiagonal();
+        const Eigen::SelfAdjointEigenSolver<Mat4> eig(Hs);
+        const double shift = std::max(0.0, -eig.eigenvalues().minCoeff()) + 1e-2;
+        A.diagonal().array() += shift * D.cwiseAbs2().array();
+      } else {
+        // Uniform, by a margin relative to the active block (the identity padding must not
+        // make a vanishing M look regular).
+        const Eigen::SelfAdjointEigenSolver<Mat4> eig(A);
+        const double top = A.topLeftCorner(n, n).cwiseAbs().maxCoeff();
+        A.diagonal().array() += std::max(0.0, -eig.eigenvalues().minCoeff()) + 1e-2 * top;
+      }
       llt.compute(A);
     }
     // Pivots of H = L L^T are the squared diagonal of L.

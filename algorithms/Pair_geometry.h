@@ -87,6 +87,11 @@ struct Solve_mode {
   // (a continuum of pairs, a pole) get no step, the rest the Newton step. Never fails on finite
   // input.
   bool damped = false;
+  // How a Hessian that is not positive definite is shifted: scaled by its diagonal (keeps the
+  // Newton step along weakly curved directions: the tracker near poles) or uniformly (the
+  // steadier choice for Newton at rest from sampled starts, which the global solver polishes
+  // with).
+  bool scaled_shift = false;
 };
 
 // The Solve_mode for a pair system: seeking a minimum unless `minimum` is false.

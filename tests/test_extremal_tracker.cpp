@@ -14,15 +14,7 @@
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"
 
-// Counts heap allocations so a test can assert that a step makes none.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/Allocation_counter.h"
 
 namespace extremal {
 namespace {
@@ -180,14 +172,14 @@ TEST(ExtremalTracker, StepAllocatesNothing) {
     o.integrator = integ;
     o.substeps = 2;
     Extremal_tracker tracker(Feature::surface(a), Feature::surface(b), setup.start, o);
-    const long before = g_allocations.load();
+    const long before = test::g_allocations.load();
     double sum = 0.0;
     for (int i = 0; i < 100; ++i) {
       const Rigid_pose_3 XA = advance(setup.pose_a, setup.twist_a, i * 1e-2);
       const Rigid_pose_3 XB = advance(setup.pose_b, setup.twist_b, i * 1e-2);
       sum += tracker.step(i * 1e-2, XA, setup.twist_a, XB, setup.twist_b, 1e-2).distance;
     }
-    EXPECT_EQ(g_allocations.load() - before, 0);
+    EXPECT_EQ(test::g_allocations.load() - before, 0);
     EXPECT_GT(sum, 0.0);
   }
 }

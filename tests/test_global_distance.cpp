@@ -19,15 +19,7 @@
 #include "kernel/Shapes.h"
 #include "support/Random.h"
 
-// Counts heap allocations so a test can check that warm queries make none.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/Allocation_counter.h"
 
 namespace extremal {
 namespace {
@@ -446,10 +438,10 @@ TEST(GlobalDistance, WarmWorkspaceQueriesDoNotAllocate) {
   req.absolute_tolerance = req.relative_tolerance = 1e-12;
   Distance_workspace ws;
   for (const auto& [X_WA, X_WB] : poses) (void)extremal_distance(ha, X_WA, hb, X_WB, req, ws);
-  const long before = g_allocations;
+  const long before = test::g_allocations;
   double sum = 0.0;
   for (const auto& [X_WA, X_WB] : poses) sum += extremal_distance(ha, X_WA, hb, X_WB, req, ws).distance;
-  EXPECT_EQ(g_allocations - before, 0);
+  EXPECT_EQ(test::g_allocations - before, 0);
   EXPECT_TRUE(std::isfinite(sum));
 }
 

@@ -11,31 +11,15 @@
 #include <vector>
 
 #include "algorithms/Ellipsoid_distance.h"
+#include "support/Cli_run.h"
 #include "kernel/Motion.h"
 
 namespace extremal {
 namespace {
 
-const std::string k_binary = std::string(EXTREMAL_BINARY_DIR) + "/cli/extremal";
+using test::Cli_run;
 
-struct Cli_run {
-  int exit_code;
-  std::string out, err;
-};
-
-Cli_run run(const std::string& args) {
-  const auto dir = std::filesystem::temp_directory_path();
-  const std::string out = (dir / "extremal_cli_out.txt").string();
-  const std::string err = (dir / "extremal_cli_err.txt").string();
-  const int status = std::system((k_binary + " " + args + " >" + out + " 2>" + err).c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  };
-  return {WEXITSTATUS(status), slurp(out), slurp(err)};
-}
+Cli_run run(const std::string& args) { return test::run_cli(args); }
 
 std::string write_scene(const std::string& name, const std::string& json) {
   const auto path = std::filesystem::temp_directory_path() / name;

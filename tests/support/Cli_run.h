@@ -1,0 +1,36 @@
+// Runs the `extremal` binary with arguments and captures its exit code, stdout and stderr.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace extremal::test {
+
+struct Cli_run {
+  int exit_code;
+  std::string out, err;
+};
+
+inline Cli_run run_cli(const std::string& args) {
+  const std::string binary = std::string(EXTREMAL_BINARY_DIR) + "/cli/extremal";
+  // One capture pair per process, so tests running in parallel do not share files.
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string tag = std::to_string(::getpid());
+  const std::string out = (dir / ("extremal_cli_out_" + tag + ".txt")).string();
+  const std::string err = (dir / ("extremal_cli_err_" + tag + ".txt")).string();
+  const int status = std::system((binary + " " + args + " >" + out + " 2>" + err).c_str());
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  return {WEXITSTATUS(status), slurp(out), slurp(err)};
+}
+
+}  // namespace extremal::test
