@@ -328,8 +328,9 @@ TEST(Shapes, Disks) {
           // Near the collapsed centre f_u is small and carries rounding noise of about
           // eps |z0|, which tilts the normal by noise / |f_u|; right at it there is no normal.
           const double tol = 1e-15 * std::max(1.0, 1.0 / v);
-          if (n != Vec3::Zero() || v >= 1e-9)
+          if (n != Vec3::Zero() || v >= 1e-9) {
             EXPECT_LE((n - Vec3(0, 0, up ? 1 : -1)).norm(), tol);
+          }
           if (HasFailure()) return;
         }
       // The centre is a collapsed edge: f_u = 0 there (up to rounding), and no normal.
