@@ -161,7 +161,9 @@ TEST_P(Cad_file, MatchesOpenCascade) {
   std::size_t faces = 0;
   for (const auto& b : model.bodies) faces += b.faces.size();
   EXPECT_EQ(faces, ref.faces.size()) << path;
-  if (c.bodies >= 0) EXPECT_EQ(model.bodies.size(), static_cast<std::size_t>(c.bodies)) << path;
+  if (c.bodies >= 0) {
+    EXPECT_EQ(model.bodies.size(), static_cast<std::size_t>(c.bodies)) << path;
+  }
   for (const auto& s : model.skipped)
     std::cout << "  skipped: " << s.entity << ": " << s.reason << " (" << s.action << ")\n";
 

@@ -85,8 +85,9 @@ TEST(TrimRegion, SquareWithCircularHoleMatchesGeometry) {
         // Inside the band but not reported On_boundary: still must be right.
         ASSERT_EQ(loc == Trim_location::Inside, truth) << "(" << u << ", " << v << ")";
       }
-      if (dist < 0.5 * region.tolerance())
+      if (dist < 0.5 * region.tolerance()) {
         ASSERT_EQ(loc, Trim_location::On_boundary) << "(" << u << ", " << v << ")";
+      }
       inside += loc == Trim_location::Inside;
       boundary += loc == Trim_location::On_boundary;
       outside += loc == Trim_location::Outside;
