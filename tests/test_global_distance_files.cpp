@@ -15,33 +15,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/Cli_run.h"
 #include "algorithms/Global_distance.h"
 #include "io/Model_reader.h"
 
 namespace extremal {
 namespace {
 
-const std::string k_binary = std::string(EXTREMAL_BINARY_DIR) + "/cli/extremal";
 const std::string k_data = std::string(EXTREMAL_SHARED_DATA);
 
-struct Cli_run {
-  int exit_code;
-  std::string out, err;
-};
+using test::Cli_run;
 
-Cli_run run(const std::string& args) {
-  const auto dir = std::filesystem::temp_directory_path();
-  const std::string out = (dir / "extremal_distance_files_out.txt").string();
-  const std::string err = (dir / "extremal_distance_files_err.txt").string();
-  const int status = std::system((k_binary + " " + args + " >" + out + " 2>" + err).c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  };
-  return {WEXITSTATUS(status), slurp(out), slurp(err)};
-}
+// Per-process capture files (support/Cli_run.h): ctest runs these cases in parallel.
+Cli_run run(const std::string& args) { return test::run_cli(args); }
 
 Vec3 vec(const nlohmann::json& j) {
   return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
