@@ -113,22 +113,30 @@ namespace {
 // The tensor-product sum and the quotient rule at (u, v) in spans (su, sv). P, Q > 0 fix the
 // degrees at compile time (arrays sized to them, loops unrolled); 0 takes them from p, q. Order
 // is the derivative order. Every instance does the same operations in the same order, so the
-// results do not depend on which one runs.
+// results do not depend on which one runs. Each instance is one flat function (everything
+// inlined into it, and it into nothing): left to itself GCC inlines the instances into
+// evaluate() until its budget runs out and then calls Eigen's small kernels out of line.
 template <int P, int Q, int Order>
-void evaluate_in_span(const Eigen::Vector4d* hom, int n_v, const double* knots_u,
-                      const double* knots_v, int p, int q, int su, int sv, double u, double v,
-                      bool rational, Surface_point& out) {
+[[gnu::noinline, gnu::flatten]] void evaluate_in_span(const Eigen::Vector4d* hom, int n_v,
+                                                     const double* knots_u,
+                                                     const double* knots_v, int p, int q, int su,
+                                                     int sv, double u, double v, bool rational,
+                                                     Surface_point& out) {
   if constexpr (P > 0) p = P;
   if constexpr (Q > 0) q = Q;
   internal::Basis_derivatives Nu, Nv;
-  if constexpr (P > 0)
-    internal::basis_derivatives_impl<P>(knots_u, su, p, u, Order, Nu);
-  else
-    internal::basis_derivatives(knots_u, su, p, u, Order, Nu);
-  if constexpr (Q > 0)
-    internal::basis_derivatives_impl<Q>(knots_v, sv, q, v, Order, Nv);
-  else
-    internal::basis_derivatives(knots_v, sv, q, v, Order, Nv);
+  if constexpr (P > 0 && P == Q) {
+    internal::basis_derivatives_pair<P>(knots_u, su, u, knots_v, sv, v, Order, Nu, Nv);
+  } else {
+    if constexpr (P > 0)
+      internal::basis_derivatives_impl<P>(knots_u, su, p, u, Order, Nu);
+    else
+      internal::basis_derivatives(knots_u, su, p, u, Order, Nu);
+    if constexpr (Q > 0)
+      internal::basis_derivatives_impl<Q>(knots_v, sv, q, v, Order, Nv);
+    else
+      internal::basis_derivatives(knots_v, sv, q, v, Order, Nv);
+  }
 
   // S[k][l] = d^(k+l) / du^k dv^l of the homogeneous surface, k + l <= Order.
   Eigen::Vector4d S[3][3];
