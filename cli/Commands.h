@@ -27,7 +27,6 @@ struct Report_options {
   std::string plot;               // --plot OUT.svg
   std::string snapshot;           // --snapshot OUT.glb
   double snapshot_time = 0.0;     // --at T
-  bool snapshot_time_given = false;
   int threads = 1;
   bool quiet = false;
 };

@@ -1,121 +1,203 @@
-// `extremal report SCENE.json`: batch distance report over time (../shared/CLI.md).
+// `extremal report SCENE.json... [-o OUT.csv|OUT.json] [--plot OUT.svg] [--snapshot OUT.glb
+// --at T] [--threads N] [--quiet]`: batch distance reports over time (../shared/CLI.md).
 #include <cmath>
-#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <set>
+#include <sstream>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
-#include "algorithms/Scene_stepper.h"
 #include "cli/Commands.h"
+#include "cli/Progress_bar.h"
+#include "cli/Report_plot.h"
+#include "cli/Report_writer.h"
+#include "cli/Scene_run.h"
 #include "io/Model_reader.h"
+#include "io/Pair_summary.h"
 #include "io/Scene.h"
 #include "kernel/Error.h"
+
+// The glTF writer lives in io/ (written alongside this command); builds without it refuse
+// --snapshot with a message instead of failing to compile.
+#if __has_include("io/Snapshot_writer.h")
+#include "io/Snapshot_writer.h"
+#define EXTREMAL_HAS_SNAPSHOT_WRITER 1
+#endif
 
 namespace extremal::cli {
 
 namespace {
 
-std::string format_number(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Per-pair summary: minimum distance and when.
-struct Summary {
-  double min_distance = std::numeric_limits<double>::infinity();
-  double min_time = 0.0;
+std::string short_number(double x) {
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+// The output names of a batch: OUT.ext with one scene; with several, OUT.<tag>.ext per scene,
+// the tag being the scene file's stem, or <k>-<stem> (k = 1, 2, ... the scene's position) for
+// every scene when two scenes share a stem.
+std::vector<std::string> scene_tags(const std::vector<std::string>& scenes) {
+  std::vector<std::string> tags;
+  std::set<std::string> seen;
+  bool clash = false;
+  for (const auto& s : scenes) {
+    tags.push_back(std::filesystem::path(s).stem().string());
+    clash = clash || !seen.insert(tags.back()).second;
+  }
+  if (clash)
+    for (std::size_t i = 0; i < tags.size(); ++i) tags[i] = std::to_string(i + 1) + "-" + tags[i];
+  return tags;
+}
+
+std::string batch_path(const std::string& path, const std::string& tag, bool batch) {
+  if (path.empty() || !batch) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "." + tag + p.extension().string())).string();
+}
+
+struct Scene_outputs {
+  std::string report, plot, snapshot;  // empty: none (report empty: stdout)
 };
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+int snapshot_step(const io::Scene& scene, double at) {
+  const int steps = scene.step_count();
+  const double t_last = scene.time_of(steps - 1);
+  if (!(at >= scene.start - 0.5 * scene.step && at <= t_last + 0.5 * scene.step)) {
+    std::ostringstream os;
+    os << "--at " << at << ": outside the time of " << scene.path << " (" << scene.start
+       << " to " << t_last << " s)";
+    throw Invalid_input(os.str());
+  }
+  return std::clamp(static_cast<int>(std::lround((at - scene.start) / scene.step)), 0, steps - 1);
 }
 
-int run_scene(const std::string& scene_path, const Report_options& options, std::ostream& csv,
-              nlohmann::json* json_rows, bool write_header) {
-  const io::Scene scene = io::read_scene(scene_path, io::load_bodies);
-  std::vector<Scene_stepper_body> bodies;
-  for (const auto& b : scene.bodies) bodies.push_back({&b.body, &b.motion});
-  Body_pair_options pair_options;
-  pair_options.tracker.gain.setConstant(scene.tracker.gain);
-  pair_options.tracker.substeps = scene.tracker.substeps;
-  pair_options.tracker.integrator = scene.tracker.rk4 ? Integrator::Rk4 : Integrator::Euler;
-  pair_options.threshold = scene.threshold.value_or(0.0);
-  pair_options.audit_every = scene.tracker.audit_every;
-  Scene_stepper stepper(bodies, scene.pairs, pair_options);
+void write_snapshot(const io::Scene& scene, const std::string& path, double t,
+                    const std::vector<Pair_report>& reports) {
+#ifdef EXTREMAL_HAS_SNAPSHOT_WRITER
+  std::vector<io::Snapshot_body> bodies;
+  for (const auto& b : scene.bodies)
+    bodies.push_back({b.name, &b.body, b.motion.pose_at(t) * b.body.placement});
+  std::vector<io::Snapshot_segment> segments;
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    if (reports[k].status == Pair_status::Farther) continue;  // no witness pair
+    const auto& [a, b] = scene.pairs[k];
+    segments.push_back({scene.bodies[a].name + " - " + scene.bodies[b].name, reports[k].point_a,
+                        reports[k].point_b});
+  }
+  io::Snapshot_options options;
+  options.unit_in_metres = io::unit_in_mm(scene.units) / 1000.0;
+  io::write_snapshot_glb(path, bodies, segments, options);
+#else
+  (void)scene, (void)t, (void)reports;
+  throw Invalid_input("--snapshot " + path + ": this build has no glTF writer");
+#endif
+}
 
-  if (write_header) csv << "t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,detail,ua,va,ub,vb\n";
-  std::vector<Summary> summaries(scene.pairs.size());
+void run_one(const io::Scene& scene, const Scene_outputs& out, const Report_options& options,
+             bool batch, bool first) {
+  std::unique_ptr<std::ofstream> file;
+  std::ostream* stream = &std::cout;
+  if (!out.report.empty()) {
+    file = std::make_unique<std::ofstream>(out.report);
+    if (!*file) throw Invalid_input(out.report + ": cannot open for writing");
+    stream = file.get();
+  }
+  std::unique_ptr<Report_writer> writer =
+      ends_with(out.report, ".json")
+          ? make_json_writer(*stream, scene)
+          : make_csv_writer(*stream, first || !out.report.empty(),
+                            batch && out.report.empty() ? scene.path : std::string());
+
+  const std::size_t n_pairs = scene.pairs.size();
+  std::vector<io::Pair_summary_builder> summaries(n_pairs);
+  std::vector<Pair_series> series(out.plot.empty() ? 0 : n_pairs);
+  std::vector<bool> was_farther(n_pairs, false);
+  const int snap_step = out.snapshot.empty() ? -1 : snapshot_step(scene, options.snapshot_time);
+  std::vector<Pair_report> snap_reports;
   const int steps = scene.step_count();
-  for (int i = 0; i < steps; ++i) {
-    const double t = scene.time_of(i);
-    const auto& reports = stepper.step(t, scene.step);
-    for (std::size_t k = 0; k < reports.size(); ++k) {
+  Progress_bar progress(!options.quiet, std::filesystem::path(scene.path).filename().string(),
+                        steps);
+
+  Scene_run_options run;
+  run.threads = options.threads;
+  run_scene(scene, run, [&](int step, double t, const std::vector<Pair_report>& reports) {
+    for (std::size_t k = 0; k < n_pairs; ++k) {
       const Pair_report& r = reports[k];
-      const std::string& na = scene.bodies[scene.pairs[k].first].name;
-      const std::string& nb = scene.bodies[scene.pairs[k].second].name;
-      if (r.distance < summaries[k].min_distance) {
-        summaries[k].min_distance = r.distance;
-        summaries[k].min_time = t;
+      const io::Clearance_state state = clearance_state(r.status);
+      const bool farther = state == io::Clearance_state::Farther;
+      summaries[k].add(t, r.distance, state);
+      if (!series.empty()) {
+        series[k].t.push_back(t);
+        series[k].distance.push_back(farther ? std::nan("") : r.distance);
       }
-      if (json_rows) {
-        json_rows->push_back({{"t", t}, {"body_a", na}, {"body_b", nb}, {"distance", r.distance},
-                              {"point_a", {r.point_a.x(), r.point_a.y(), r.point_a.z()}},
-                              {"point_b", {r.point_b.x(), r.point_b.y(), r.point_b.z()}},
-                              {"normal", {r.normal.x(), r.normal.y(), r.normal.z()}},
-                              {"face_a", r.feature_a}, {"face_b", r.feature_b},
-                              {"params", {r.params[0], r.params[1], r.params[2], r.params[3]}},
-                              {"status", to_string(r.status)},
-                              {"detail", to_string(r.degeneracy)}});
-        continue;
+      // A pair beyond the threshold is reported once when it goes there, not at every step.
+      if (!(farther && was_farther[k])) {
+        const auto& [a, b] = scene.pairs[k];
+        writer->row(t, scene.bodies[a].name, scene.bodies[b].name, r);
       }
-      csv << format_number(t) << ',' << na << ',' << nb << ',' << format_number(r.distance);
-      for (const Vec3* v : {&r.point_a, &r.point_b, &r.normal})
-        for (int c = 0; c < 3; ++c) csv << ',' << format_number((*v)[c]);
-      csv << ',' << r.feature_a << ',' << r.feature_b << ',' << to_string(r.status) << ','
-          << to_string(r.degeneracy);
-      for (int c = 0; c < 4; ++c) csv << ',' << format_number(r.params[c]);
-      csv << '\n';
+      was_farther[k] = farther;
     }
-  }
-  if (!options.quiet && !options.output.empty()) {
-    std::cout << scene_path << ": " << scene.bodies.size() << " bodies, " << scene.pairs.size()
-              << " watched pairs, " << steps << " steps\n";
-    for (std::size_t k = 0; k < scene.pairs.size(); ++k)
-      std::cout << "  " << scene.bodies[scene.pairs[k].first].name << " - "
-                << scene.bodies[scene.pairs[k].second].name << ": minimum distance "
-                << summaries[k].min_distance << " at t = " << summaries[k].min_time << "\n";
-  }
-  return 0;
+    if (step == snap_step) snap_reports = reports;
+    progress.update(step + 1);
+  });
+  progress.finish();
+
+  std::vector<io::Pair_summary> result;
+  for (const auto& s : summaries) result.push_back(s.summary());
+  writer->finish(result);
+  if (file && !*file) throw Invalid_input(out.report + ": write failed");
+  if (!out.plot.empty()) report_plot(scene, series, result).write(out.plot);
+  if (!out.snapshot.empty())
+    write_snapshot(scene, out.snapshot, scene.time_of(snap_step), snap_reports);
+
+  if (options.quiet) return;
+  std::string written;
+  for (const std::string* p : {&out.report, &out.plot, &out.snapshot})
+    if (!p->empty()) written += (written.empty() ? "" : ", ") + *p;
+  if (!out.snapshot.empty() && scene.time_of(snap_step) != options.snapshot_time)
+    written += " (snapshot at the nearest step, t = " + short_number(scene.time_of(snap_step)) + ")";
+  // With the rows on stdout the summary goes to stderr, so stdout stays one clean CSV.
+  print_summary(out.report.empty() ? std::cerr : std::cout, scene, written, result);
 }
 
 }  // namespace
 
 int run_report(const Report_options& options) {
+  const char* const prefix = "extremal report: ";
   try {
-    std::unique_ptr<std::ofstream> file;
-    std::ostream* out = &std::cout;
-    const bool json = ends_with(options.output, ".json");
-    if (!options.output.empty()) {
-      if (!json && !ends_with(options.output, ".csv"))
-        throw Invalid_input(options.output + ": -o takes a .csv or .json file");
-      file = std::make_unique<std::ofstream>(options.output);
-      if (!*file) throw Invalid_input(options.output + ": cannot open for writing");
-      out = file.get();
+    if (!options.output.empty() && !ends_with(options.output, ".csv") &&
+        !ends_with(options.output, ".json"))
+      throw Invalid_input("-o " + options.output + ": expected a file name ending in .csv or .json");
+    if (options.threads < 1)
+      throw Invalid_input("--threads " + std::to_string(options.threads) + ": must be at least 1");
+    // Every scene is read (and checked) before any runs: a typo in the last scene of a batch
+    // costs nothing.
+    std::vector<io::Scene> scenes;
+    for (const auto& path : options.scenes) scenes.push_back(io::read_scene(path, io::load_bodies));
+    const bool batch = scenes.size() > 1;
+    const std::vector<std::string> tags = scene_tags(options.scenes);
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+      Scene_outputs out{batch_path(options.output, tags[i], batch),
+                        batch_path(options.plot, tags[i], batch),
+                        batch_path(options.snapshot, tags[i], batch)};
+      if (!out.snapshot.empty()) snapshot_step(scenes[i], options.snapshot_time);  // check early
+      run_one(scenes[i], out, options, batch, i == 0);
     }
-    nlohmann::json report = nlohmann::json::array();
-    for (std::size_t i = 0; i < options.scenes.size(); ++i) {
-      nlohmann::json rows = nlohmann::json::array();
-      run_scene(options.scenes[i], options, *out, json ? &rows : nullptr, i == 0);
-      if (json) report.push_back({{"scene", options.scenes[i]}, {"rows", rows}});
-    }
-    if (json) *out << (report.size() == 1 ? report[0] : report).dump(1) << "\n";
     return 0;
   } catch (const Invalid_input& e) {
-    std::cerr << "extremal report: " << e.what() << "\n";
+    std::cerr << prefix << e.what() << "\n";
+    return 1;
+  } catch (const Precondition_violation& e) {
+    std::cerr << prefix << "internal error: " << e.what() << "\n";
     return 1;
   }
 }

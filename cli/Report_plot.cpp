@@ -1,0 +1,96 @@
+#include "cli/Report_plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+namespace extremal::cli {
+
+namespace {
+
+// The parts of `outer` (runs of rows) not covered by `inner` (runs of rows within them), on
+// the grid of rows `step` apart.
+std::vector<io::Time_interval> minus(const std::vector<io::Time_interval>& outer,
+                                     const std::vector<io::Time_interval>& inner, double step) {
+  std::vector<io::Time_interval> out;
+  for (const auto& o : outer) {
+    double start = o.start;
+    for (const auto& i : inner) {
+      if (i.end < o.start || i.start > o.end) continue;
+      if (i.start - 0.5 * step > start) out.push_back({start, i.start - step});
+      start = i.end + step;
+    }
+    if (start <= o.end + 0.5 * step) out.push_back({start, o.end});
+  }
+  return out;
+}
+
+}  // namespace
+
+io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
+                         const std::vector<io::Pair_summary>& summaries) {
+  io::Svg_plot plot;
+  plot.title = std::filesystem::path(scene.path).filename().string() + ": distance over time";
+  plot.x_label = "time (s)";
+  plot.y_label = "signed distance (" + scene.units + "; < 0: penetration depth)";
+  // A row stands for its time step: intervals are widened by half a step each side so that a
+  // single row in contact still shows.
+  const double half = 0.5 * scene.step;
+  const double t_first = scene.start, t_last = scene.time_of(scene.step_count() - 1);
+  // Shading by kind; its legend names the pairs it concerns when there are several.
+  struct Kind {
+    const char* name;
+    const char* colour;
+    double opacity;
+    std::vector<io::Time_interval> runs;
+    std::vector<std::string> pairs;
+  };
+  Kind kinds[3] = {{"farther than the threshold", "#999999", 0.2, {}, {}},
+                   {"contact", "#ff7f0e", 0.3, {}, {}},
+                   {"penetration", "#d62728", 0.3, {}, {}}};
+  bool touches = false;
+  double lowest = HUGE_VAL, highest = -HUGE_VAL;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const auto& [a, b] = scene.pairs[k];
+    const std::string name = scene.bodies[a].name + " - " + scene.bodies[b].name;
+    io::Svg_series s;
+    s.label = name;
+    s.x = series[k].t;
+    s.y = series[k].distance;
+    s.colour = io::plot_colour(k);
+    for (double d : s.y)
+      if (std::isfinite(d)) lowest = std::min(lowest, d), highest = std::max(highest, d);
+    plot.series.push_back(std::move(s));
+    const io::Pair_summary& sum = summaries[k];
+    // Contact shading where touching but not inside, so every shaded region has one colour.
+    const std::vector<io::Time_interval> runs[3] = {
+        sum.farther, minus(sum.contact, sum.penetration, scene.step), sum.penetration};
+    for (int c = 0; c < 3; ++c) {
+      if (runs[c].empty()) continue;
+      kinds[c].runs.insert(kinds[c].runs.end(), runs[c].begin(), runs[c].end());
+      kinds[c].pairs.push_back(name);
+    }
+    touches = touches || !sum.contact.empty();
+    if (sum.min_distance) plot.markers.push_back({sum.min_time, *sum.min_distance, io::plot_colour(k)});
+  }
+  for (const Kind& kind : kinds) {
+    std::string label = kind.name;
+    if (series.size() > 1 && !kind.runs.empty()) {
+      label += " (";
+      for (std::size_t i = 0; i < kind.pairs.size(); ++i)
+        label += (i ? ", " : "") + kind.pairs[i];
+      label += ")";
+    }
+    for (const auto& r : kind.runs)
+      plot.bands.push_back({std::max(t_first, r.start - half), std::min(t_last, r.end + half),
+                            kind.colour, label, kind.opacity});
+  }
+  plot.marker_label = series.size() == 1 ? "minimum" : "minimum of each pair";
+  // The contact level, when the curves come near it (else it would squash them).
+  if (touches || (lowest <= highest && lowest < 0.25 * (highest - lowest)))
+    plot.rules.push_back({0.0, "contact (distance 0)"});
+  return plot;
+}
+
+}  // namespace extremal::cli

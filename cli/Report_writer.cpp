@@ -1,0 +1,210 @@
+#include "cli/Report_writer.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace extremal::cli {
+
+namespace {
+
+nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json intervals_json(const std::vector<io::Time_interval>& runs) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : runs) j.push_back({{"start", r.start}, {"end", r.end}});
+  return j;
+}
+
+class Csv_writer final : public Report_writer {
+ public:
+  Csv_writer(std::ostream& out, bool header, std::string scene)
+      : m_out(out), m_scene(scene.empty() ? std::string() : csv_field(scene)) {
+    if (header) m_out << csv_header(!scene.empty()) << '\n';
+  }
+  void row(double t, const std::string& body_a, const std::string& body_b,
+           const Pair_report& r) override {
+    m_out << format_number(t) << ',' << csv_field(body_a) << ',' << csv_field(body_b) << ','
+          << format_number(r.distance);
+    for (const Vec3* v : {&r.point_a, &r.point_b, &r.normal})
+      for (int c = 0; c < 3; ++c) m_out << ',' << format_number((*v)[c]);
+    m_out << ',' << r.feature_a << ',' << r.feature_b << ',' << to_string(r.status) << ','
+          << to_string(r.degeneracy);
+    for (int c = 0; c < 4; ++c) m_out << ',' << format_number(r.params[c]);
+    if (!m_scene.empty()) m_out << ',' << m_scene;
+    m_out << '\n';
+  }
+  void finish(const std::vector<io::Pair_summary>&) override { m_out.flush(); }
+
+ private:
+  std::ostream& m_out;
+  std::string m_scene;
+};
+
+// Streams the rows (one per line) so long runs never hold the report in memory.
+class Json_writer final : public Report_writer {
+ public:
+  Json_writer(std::ostream& out, const io::Scene& scene) : m_out(out), m_scene(scene) {
+    nlohmann::json bodies = nlohmann::json::array();
+    for (const auto& b : scene.bodies) {
+      // A shape entry's source is its shape object; a file entry's, the file's path.
+      const nlohmann::json shape = nlohmann::json::parse(b.source, nullptr, false);
+      if (shape.is_object())
+        bodies.push_back({{"name", b.name}, {"shape", shape}});
+      else
+        bodies.push_back({{"name", b.name}, {"file", b.source}});
+    }
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const auto& [a, b] : scene.pairs)
+      pairs.push_back({scene.bodies[a].name, scene.bodies[b].name});
+    m_out << "{\n\"scene\": " << nlohmann::json(scene.path).dump()
+          << ",\n\"units\": " << nlohmann::json(scene.units).dump() << ",\n\"time\": "
+          << nlohmann::json({{"start", scene.start},
+                             {"end", scene.end},
+                             {"step", scene.step},
+                             {"steps", scene.step_count()}})
+                 .dump()
+          << ",\n\"bodies\": " << bodies.dump() << ",\n\"pairs\": " << pairs.dump()
+          << ",\n\"rows\": [";
+  }
+  void row(double t, const std::string& body_a, const std::string& body_b,
+           const Pair_report& r) override {
+    const nlohmann::json j = {{"t", t},
+                              {"body_a", body_a},
+                              {"body_b", body_b},
+                              {"distance", r.distance},
+                              {"point_a", vec_json(r.point_a)},
+                              {"point_b", vec_json(r.point_b)},
+                              {"normal", vec_json(r.normal)},
+                              {"face_a", r.feature_a},
+                              {"face_b", r.feature_b},
+                              {"status", to_string(r.status)},
+                              {"detail", to_string(r.degeneracy)},
+                              {"params", {r.params[0], r.params[1], r.params[2], r.params[3]}}};
+    m_out << (m_first ? "\n" : ",\n") << j.dump();
+    m_first = false;
+  }
+  void finish(const std::vector<io::Pair_summary>& summaries) override {
+    m_out << "\n],\n\"summary\": [";
+    for (std::size_t k = 0; k < summaries.size(); ++k) {
+      const auto& [a, b] = m_scene.pairs[k];
+      m_out << (k ? ",\n" : "\n")
+            << summary_json(m_scene.bodies[a].name, m_scene.bodies[b].name, summaries[k]).dump();
+    }
+    m_out << "\n]\n}\n";
+    m_out.flush();
+  }
+
+ private:
+  std::ostream& m_out;
+  const io::Scene& m_scene;
+  bool m_first = true;
+};
+
+std::string short_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+std::string intervals_text(const std::vector<io::Time_interval>& runs) {
+  std::ostringstream os;
+  const std::size_t shown = std::min<std::size_t>(runs.size(), 3);
+  for (std::size_t i = 0; i < shown; ++i) {
+    os << (i ? ", " : "") << "t = " << short_number(runs[i].start);
+    if (runs[i].end > runs[i].start) os << " to " << short_number(runs[i].end);
+  }
+  if (runs.size() > shown) os << " and " << runs.size() - shown << " more";
+  return os.str();
+}
+
+}  // namespace
+
+std::string csv_header(bool with_scene_column) {
+  return std::string("t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,"
+                     "detail,ua,va,ub,vb") +
+         (with_scene_column ? ",scene" : "");
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string format_number(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+io::Clearance_state clearance_state(Pair_status status) {
+  switch (status) {
+    case Pair_status::Contact: return io::Clearance_state::Contact;
+    case Pair_status::Penetrating: return io::Clearance_state::Penetrating;
+    case Pair_status::Farther: return io::Clearance_state::Farther;
+    default: return io::Clearance_state::Apart;
+  }
+}
+
+std::unique_ptr<Report_writer> make_csv_writer(std::ostream& out, bool header,
+                                               const std::string& scene_column) {
+  return std::make_unique<Csv_writer>(out, header, scene_column);
+}
+
+std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Scene& scene) {
+  return std::make_unique<Json_writer>(out, scene);
+}
+
+nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
+                            const io::Pair_summary& s) {
+  nlohmann::json j = {{"body_a", body_a}, {"body_b", body_b}, {"rows", s.rows},
+                      {"tracked_rows", s.tracked_rows}};
+  j["min_distance"] = s.min_distance ? nlohmann::json(*s.min_distance) : nlohmann::json();
+  j["min_time"] = s.min_distance ? nlohmann::json(s.min_time) : nlohmann::json();
+  j["contact"] = intervals_json(s.contact);
+  j["penetration"] = intervals_json(s.penetration);
+  j["deepest_penetration"] =
+      s.deepest_penetration ? nlohmann::json(*s.deepest_penetration) : nlohmann::json();
+  j["deepest_time"] = s.deepest_penetration ? nlohmann::json(s.deepest_time) : nlohmann::json();
+  j["farther"] = intervals_json(s.farther);
+  return j;
+}
+
+void print_summary(std::ostream& out, const io::Scene& scene, const std::string& written_to,
+                   const std::vector<io::Pair_summary>& summaries) {
+  out << scene.path << ": " << scene.bodies.size() << " bodies, " << scene.pairs.size()
+      << " watched pair" << (scene.pairs.size() == 1 ? "" : "s") << ", " << scene.step_count()
+      << " steps from t = " << short_number(scene.start) << " to "
+      << short_number(scene.time_of(scene.step_count() - 1)) << " s (lengths in " << scene.units
+      << ")";
+  if (!written_to.empty()) out << " -> " << written_to;
+  out << "\n";
+  for (std::size_t k = 0; k < summaries.size(); ++k) {
+    const io::Pair_summary& s = summaries[k];
+    const auto& [a, b] = scene.pairs[k];
+    out << "  " << scene.bodies[a].name << " - " << scene.bodies[b].name << ": ";
+    if (!s.min_distance) {
+      out << "farther than the threshold " << short_number(scene.threshold.value_or(0.0))
+          << " throughout\n";
+      continue;
+    }
+    out << "minimum clearance " << short_number(*s.min_distance) << " at t = "
+        << short_number(s.min_time) << "\n";
+    if (s.contact.empty())
+      out << "    never in contact\n";
+    else
+      out << "    in contact " << intervals_text(s.contact) << "\n";
+    if (!s.penetration.empty())
+      out << "    penetrating " << intervals_text(s.penetration) << "; deepest "
+          << short_number(*s.deepest_penetration) << " at t = " << short_number(s.deepest_time)
+          << "\n";
+    if (!s.farther.empty())
+      out << "    farther than the threshold " << intervals_text(s.farther) << "\n";
+  }
+}
+
+}  // namespace extremal::cli

@@ -1,0 +1,81 @@
+#include "cli/Scene_run.h"
+
+#include <algorithm>
+#include <memory>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "algorithms/Scene_stepper.h"
+#include "kernel/Error.h"
+
+namespace extremal::cli {
+
+Body_pair_options pair_options_of(const io::Scene& scene) {
+  Body_pair_options o;
+  o.tracker.gain.setConstant(scene.tracker.gain);  // 0: 1/step (Tracker_options)
+  o.tracker.substeps = scene.tracker.substeps;
+  o.tracker.integrator = scene.tracker.rk4 ? Integrator::Rk4 : Integrator::Euler;
+  o.threshold = scene.threshold.value_or(0.0);
+  o.audit_every = scene.tracker.audit_every;
+  return o;
+}
+
+void run_scene(const io::Scene& scene, const Scene_run_options& options,
+               const Step_callback& on_step) {
+  EXTREMAL_PRECONDITION(options.threads >= 1 && options.block_steps >= 1);
+  const Body_pair_options pair_options = pair_options_of(scene);
+  const std::size_t n_pairs = scene.pairs.size();
+  // One stepper per pair over just its two bodies: the same poses and twists as one stepper
+  // over the whole scene, and nothing shared between threads.
+  std::vector<std::unique_ptr<Scene_stepper>> steppers;
+  steppers.reserve(n_pairs);
+  for (const auto& [a, b] : scene.pairs) {
+    const io::Scene_body& A = scene.bodies[a];
+    const io::Scene_body& B = scene.bodies[b];
+    try {
+      steppers.push_back(std::make_unique<Scene_stepper>(
+          std::vector<Scene_stepper_body>{{&A.body, &A.motion}, {&B.body, &B.motion}},
+          std::vector<std::pair<int, int>>{{0, 1}}, pair_options));
+    } catch (const Invalid_input& e) {
+      throw Invalid_input(scene.path + ": pair " + A.name + " - " + B.name + ": " + e.what());
+    }
+  }
+  const int steps = scene.step_count();
+  const int block = std::min(options.block_steps, steps);
+  std::vector<std::vector<Pair_report>> buffer(n_pairs, std::vector<Pair_report>(block));
+  std::vector<Pair_report> row(n_pairs);
+  tbb::task_arena arena(options.threads);
+  for (int first = 0; first < steps; first += block) {
+    const int count = std::min(block, steps - first);
+    auto run_pairs = [&](std::size_t k0, std::size_t k1) {
+      for (std::size_t k = k0; k < k1; ++k)
+        for (int i = 0; i < count; ++i) {
+          try {
+            buffer[k][i] = steppers[k]->step(scene.time_of(first + i), scene.step).front();
+          } catch (const Invalid_input& e) {
+            const auto& [a, b] = scene.pairs[k];
+            throw Invalid_input(scene.path + ": pair " + scene.bodies[a].name + " - " +
+                                scene.bodies[b].name + ": " + e.what());
+          }
+        }
+    };
+    if (options.threads == 1 || n_pairs == 1) {
+      run_pairs(0, n_pairs);
+    } else {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_pairs, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            run_pairs(r.begin(), r.end());
+                          });
+      });
+    }
+    for (int i = 0; i < count; ++i) {
+      for (std::size_t k = 0; k < n_pairs; ++k) row[k] = buffer[k][i];
+      on_step(first + i, scene.time_of(first + i), row);
+    }
+  }
+}
+
+}  // namespace extremal::cli

@@ -1,0 +1,32 @@
+// Runs the watched pairs of a scene through its time steps, on several threads when asked, with
+// the same rows as on one thread: each pair has its own stepper (pairs share nothing but the
+// read-only bodies and motions), the pairs of a block of steps run in parallel in a TBB arena,
+// and the rows of the block are handed over in order (step by step, pair by pair).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "algorithms/Body_pair_tracker.h"
+#include "io/Scene.h"
+
+namespace extremal::cli {
+
+// The tracker settings of a scene (gain, substeps, integrator, threshold, audits).
+Body_pair_options pair_options_of(const io::Scene& scene);
+
+struct Scene_run_options {
+  int threads = 1;
+  int block_steps = 512;  // steps each pair runs before the block's rows are handed over
+};
+
+// Called once per time step in order: step index, time, and one report per scene pair (in the
+// order of scene.pairs).
+using Step_callback =
+    std::function<void(int step, double t, const std::vector<Pair_report>& reports)>;
+
+// Throws Invalid_input naming the scene file and the body when a pair cannot be tracked.
+void run_scene(const io::Scene& scene, const Scene_run_options& options,
+               const Step_callback& on_step);
+
+}  // namespace extremal::cli

@@ -1,0 +1,56 @@
+// What a report says about one watched pair over a run, in a few numbers: the minimum clearance
+// and when, the intervals in contact and in penetration, the deepest penetration, and the
+// intervals the pair spent farther than the scene's threshold. Fed one row at a time in time
+// order (`extremal report` summaries, its JSON report and its plot).
+#pragma once
+
+#include <optional>
+#include <vector>
+
+namespace extremal::io {
+
+// The state of a row, from the report's status word.
+enum class Clearance_state {
+  Apart,        // tracked, apart (tracking, boundary, fallback)
+  Contact,      // |distance| within the contact tolerance
+  Penetrating,  // distance below minus the contact tolerance
+  Farther,      // beyond the threshold, not tracked: the distance is only a lower bound
+};
+
+// A run of consecutive rows in one state: the times of its first and last row. An interval of
+// one row has start == end.
+struct Time_interval {
+  double start = 0.0, end = 0.0;
+};
+
+struct Pair_summary {
+  int rows = 0;          // rows fed
+  int tracked_rows = 0;  // rows not farther
+  // Smallest tracked distance and the first time it occurred; empty when every row was farther.
+  std::optional<double> min_distance;
+  double min_time = 0.0;
+  // Rows touching or inside (distance <= the contact tolerance: contact or penetrating).
+  std::vector<Time_interval> contact;
+  // Rows inside (penetrating).
+  std::vector<Time_interval> penetration;
+  // Rows beyond the threshold.
+  std::vector<Time_interval> farther;
+  // Deepest penetration (a positive depth, -distance) and the first time it occurred; empty
+  // when the pair never penetrated.
+  std::optional<double> deepest_penetration;
+  double deepest_time = 0.0;
+};
+
+class Pair_summary_builder {
+ public:
+  // Rows must come in increasing time.
+  void add(double t, double distance, Clearance_state state);
+  const Pair_summary& summary() const { return m_summary; }
+
+ private:
+  static void extend(std::vector<Time_interval>& runs, bool in_run, bool was_in_run, double t);
+  Pair_summary m_summary;
+  bool m_was_contact = false, m_was_penetrating = false, m_was_farther = false;
+};
+
+}  // namespace extremal::io
