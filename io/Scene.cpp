@@ -157,38 +157,62 @@ Body shape_body(const json& j, const std::string& path, const std::string& name,
            "unknown shape type '" + type + "' (point, sphere, ellipsoid, torus, cylinder, plane)");
 }
 
+// A pose table: an optional header `t,x,y,z,qw,qx,qy,qz`, then one row of 8 numbers per pose.
+// Errors name the scene file, the JSON path, the table file and its line.
 std::vector<Keyframe> read_table(const std::string& file, const std::string& path,
                                  const Scene_error& err) {
   std::ifstream in(file);
   if (!in) err.fail(path, "cannot open pose table '" + file + "'");
+  auto fail_line = [&](int line_no, const std::string& reason) {
+    err.fail(path, file + ":" + std::to_string(line_no) + ": " + reason);
+  };
+  auto trim = [](std::string text) {
+    const auto b = text.find_first_not_of(" \t\r");
+    const auto e = text.find_last_not_of(" \t\r");
+    return b == std::string::npos ? std::string() : text.substr(b, e - b + 1);
+  };
   std::vector<Keyframe> frames;
   std::string line;
   int line_no = 0;
+  bool first_content = true;
   while (std::getline(in, line)) {
     ++line_no;
+    line = trim(line);
     if (line.empty() || line[0] == '#') continue;
-    if (line_no == 1 && line.find_first_of("tT") == 0) continue;  // header
-    std::vector<double> v;
+    std::vector<std::string> cells;
     std::stringstream ss(line);
     std::string cell;
-    while (std::getline(ss, cell, ',')) {
+    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
+    if (!line.empty() && line.back() == ',') cells.push_back("");
+    const bool header = first_content && !cells.empty() && !cells[0].empty() &&
+                        std::isalpha(static_cast<unsigned char>(cells[0][0]));
+    first_content = false;
+    if (header) {
+      static const char* const names[] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz"};
+      bool ok = cells.size() == 8;
+      for (std::size_t i = 0; ok && i < 8; ++i) ok = cells[i] == names[i];
+      if (!ok) fail_line(line_no, "header '" + line + "': expected t,x,y,z,qw,qx,qy,qz");
+      continue;
+    }
+    if (cells.size() != 8)
+      fail_line(line_no, "expected 8 columns t,x,y,z,qw,qx,qy,qz, got " +
+                             std::to_string(cells.size()));
+    double v[8];
+    for (int i = 0; i < 8; ++i) {
+      const std::string& c = cells[static_cast<std::size_t>(i)];
       char* end = nullptr;
-      const double x = std::strtod(cell.c_str(), &end);
-      if (end == cell.c_str() || !std::isfinite(x))
-        throw Invalid_input(file + ":" + std::to_string(line_no) + ": '" + cell +
-                            "' is not a finite number");
-      v.push_back(x);
+      v[i] = std::strtod(c.c_str(), &end);
+      if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v[i]))
+        fail_line(line_no, "column " + std::to_string(i + 1) + ": '" + c +
+                               "' is not a finite number");
     }
-    if (v.size() != 8)
-      throw Invalid_input(file + ":" + std::to_string(line_no) +
-                          ": expected 8 columns t,x,y,z,qw,qx,qy,qz, got " +
-                          std::to_string(v.size()));
-    try {
-      frames.push_back({v[0], Rigid_pose_3::from_quaternion(Vec3(v[1], v[2], v[3]), v[4], v[5],
-                                                            v[6], v[7])});
-    } catch (const Invalid_input& e) {
-      throw Invalid_input(file + ":" + std::to_string(line_no) + ": " + e.what());
-    }
+    if (!frames.empty() && !(v[0] > frames.back().t))
+      fail_line(line_no, "times must increase");
+    const double n = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+    if (std::abs(n - 1.0) > 1e-6)
+      fail_line(line_no, "not a unit quaternion (norm " + std::to_string(n) + ")");
+    frames.push_back({v[0], Rigid_pose_3::from_quaternion(Vec3(v[1], v[2], v[3]), v[4], v[5],
+                                                          v[6], v[7])});
   }
   if (frames.empty()) err.fail(path, "pose table '" + file + "' has no rows");
   return frames;
@@ -222,6 +246,7 @@ Motion motion(const json& j, const std::string& path, const Rigid_pose_3& initia
       check_keys(k[i], ip, {"t", "position", "quaternion"}, err);
       const double t = number(require(k[i], "t", ip, err), ip + ".t", err);
       if (!frames.empty() && !(t > frames.back().t)) err.fail(ip + ".t", "times must increase");
+      if (!k[i].contains("position")) err.fail(ip, "missing key 'position'");
       json p = k[i];
       p.erase("t");
       frames.push_back({t, pose(p, ip, err)});
@@ -232,15 +257,53 @@ Motion motion(const json& j, const std::string& path, const Rigid_pose_3& initia
     check_keys(j, path, {"type", "file"}, err);
     const std::string f = string(require(j, "file", path, err), path + ".file", err);
     const std::filesystem::path full = std::filesystem::path(folder) / f;
-    std::vector<Keyframe> frames = read_table(full.string(), path + ".file", err);
-    try {
-      return Motion::keyframes(std::move(frames), Motion::Type::Table);
-    } catch (const Invalid_input& e) {
-      err.fail(path + ".file", full.string() + ": " + e.what());
-    }
+    return Motion::keyframes(read_table(full.string(), path + ".file", err), Motion::Type::Table);
   }
   err.fail(path + ".type", "unknown motion type '" + type + "' (static, twist, keyframes, table)");
 }
+
+// A JSON parser callback that rejects a key given twice in one object (the parser would keep
+// the last silently), naming its JSON path.
+class Duplicate_key_check {
+ public:
+  explicit Duplicate_key_check(const Scene_error& err) : m_err(&err) {}
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start || event == E::value) &&
+        !m_frames.empty() && m_frames.back().is_array)
+      ++m_frames.back().index;
+    switch (event) {
+      case E::object_start: m_frames.push_back({false, -1, {}, {}}); break;
+      case E::array_start: m_frames.push_back({true, -1, {}, {}}); break;
+      case E::object_end:
+      case E::array_end: m_frames.pop_back(); break;
+      case E::key: {
+        Frame& f = m_frames.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second) m_err->fail(path(), "key given twice");
+        break;
+      }
+      case E::value: break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool is_array;
+    long index;
+    std::string key;
+    std::set<std::string> keys;
+  };
+  std::string path() const {
+    std::string p;
+    for (const Frame& f : m_frames)
+      p += f.is_array ? "[" + std::to_string(f.index) + "]" : (p.empty() ? "" : ".") + f.key;
+    return p;
+  }
+  const Scene_error* m_err;
+  std::vector<Frame> m_frames;
+};
 
 }  // namespace
 
@@ -263,7 +326,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
   const Scene_error err(path);
   json root;
   try {
-    root = json::parse(text);
+    root = json::parse(text, Duplicate_key_check(err));
   } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers that overflow
     err.fail("", std::string("not valid JSON: ") + e.what());
   }
@@ -306,6 +369,20 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
     const Motion m = b.contains("motion")
                          ? motion(b["motion"], bp + ".motion", initial, scene.start, folder, err)
                          : Motion::still(initial);
+    // Keyframes and tables place the body themselves; a pose beside them must agree.
+    if (b.contains("pose") && (m.type() == Motion::Type::Keyframes || m.type() == Motion::Type::Table)) {
+      const Rigid_pose_3 at_start = m.pose_at(scene.start);
+      const double dp = (at_start.translation() - initial.translation()).norm();
+      const double dr = (at_start.rotation() - initial.rotation()).norm();
+      if (dp > 1e-9 * (1.0 + initial.translation().norm()) || dr > 1e-6) {
+        std::ostringstream os;
+        os << "differs from the pose the " << (m.type() == Motion::Type::Table ? "table" : "keyframes")
+           << " give at time.start = " << scene.start << " (position " << at_start.translation().x()
+           << ", " << at_start.translation().y() << ", " << at_start.translation().z()
+           << "); drop 'pose' or make it agree";
+        err.fail(bp + ".pose", os.str());
+      }
+    }
     std::vector<Body> loaded;
     std::string source;
     if (b.contains("shape") == b.contains("file"))
@@ -366,6 +443,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
         add_pair(static_cast<int>(a), static_cast<int>(b));
   } else {
     if (!pairs.is_array()) err.fail("pairs", "expected \"all\" or a list of name pairs");
+    std::set<std::pair<std::string, std::string>> listed;
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       const std::string pp = "pairs[" + std::to_string(i) + "]";
       if (!pairs[i].is_array() || pairs[i].size() != 2) err.fail(pp, "expected [name_a, name_b]");
@@ -373,7 +451,11 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
       const std::string nb = string(pairs[i][1], pp + "[1]", err);
       if (!names.count(na)) err.fail(pp + "[0]", "no body named '" + na + "'");
       if (!names.count(nb)) err.fail(pp + "[1]", "no body named '" + nb + "'");
-      if (na == nb) err.fail(pp, "a body cannot be paired with itself");
+      // An entry paired with itself watches the pairs among its solids.
+      if (na == nb && names[na].size() < 2) err.fail(pp, "a body cannot be paired with itself");
+      const auto key = std::minmax(na, nb);
+      if (!listed.insert(key).second)
+        err.fail(pp, "the pair '" + na + "', '" + nb + "' is listed twice");
       for (int a : names[na])
         for (int b : names[nb]) add_pair(a, b);
     }
@@ -394,6 +476,8 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
       scene.tracker.rk4 = s == "rk4";
     }
   }
+  if (scene.pairs.empty())
+    err.fail("pairs", "no pair of bodies to watch (a scene needs at least two bodies)");
   return scene;
 }
 

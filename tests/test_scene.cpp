@@ -8,6 +8,7 @@
 
 #include "io/Scene.h"
 #include "kernel/Error.h"
+#include "kernel/Shapes.h"
 
 namespace extremal {
 namespace {
@@ -30,6 +31,7 @@ void expect_error(const std::string& json, const std::string& expected) {
 }
 
 const char* k_sphere = R"({"name": "A", "shape": {"type": "sphere", "radius": 1}})";
+const char* k_other = R"({"name": "other", "shape": {"type": "sphere", "radius": 1}})";
 
 TEST(Scene, TwistMotionReproducesItsPoses) {
   const auto scene = io::parse_scene(with_bodies(std::string(k_sphere) + R"(,
@@ -55,7 +57,7 @@ TEST(Scene, KeyframesInterpolateAndHoldOutside) {
       with_bodies(R"({"name": "A", "shape": {"type": "point"}, "motion": {"type": "keyframes",
         "keyframes": [{"t": 1, "position": [0, 0, 0], "quaternion": [1, 0, 0, 0]},
                       {"t": 3, "position": [4, 0, 2], "quaternion": [)" +
-                  std::to_string(s) + ", 0, 0, " + std::to_string(s) + R"(]}]}})"),
+                  std::to_string(s) + ", 0, 0, " + std::to_string(s) + R"(]}]}}, )" + k_other),
       "scene.json");
   const Motion& m = scene.bodies[0].motion;
   EXPECT_NEAR((m.pose_at(0.0).translation()).norm(), 0.0, 0.0);
@@ -78,7 +80,8 @@ TEST(Scene, TableMotionReadsPosesRelativeToTheScene) {
   {
     std::ofstream f(dir / "scene.json");
     f << with_bodies(R"({"name": "A", "shape": {"type": "point"},
-                         "motion": {"type": "table", "file": "poses.csv"}})");
+                         "motion": {"type": "table", "file": "poses.csv"}}, )" +
+                    std::string(k_other));
   }
   const auto scene = io::read_scene((dir / "scene.json").string());
   const Motion& m = scene.bodies[0].motion;
@@ -110,6 +113,38 @@ TEST(Scene, ErrorsNameThePathAndTheReason) {
                "tracker.substep: unknown key");
   expect_error("{not json", "not valid JSON");
   expect_error(with_bodies(k_sphere, R"(, "units": "furlong")"), "units: unknown unit 'furlong'");
+}
+
+
+TEST(Scene, MultiSolidEntriesNameTheirBodiesAndPairAmongThemselves) {
+  // A loader standing in for a CAD file with three solids (their geometry does not matter here).
+  const io::File_loader three_solids = [](const std::string&, const std::string&,
+                                          const std::string&) {
+    std::vector<Body> out;
+    for (int k = 0; k < 3; ++k) out.push_back(make_sphere_body(1.0 + k, "solid"));
+    return out;
+  };
+  const auto scene = io::parse_scene(
+      with_bodies(R"({"name": "part", "file": "three.step"}, )" + std::string(k_sphere),
+                  R"(, "pairs": [["part", "part"], ["A", "part/2"]])"),
+      "scene.json", three_solids);
+  ASSERT_EQ(scene.bodies.size(), 4u);
+  EXPECT_EQ(scene.bodies[0].name, "part/1");
+  EXPECT_EQ(scene.bodies[2].name, "part/3");
+  EXPECT_EQ(scene.bodies[2].entry, "part");
+  ASSERT_EQ(scene.pairs.size(), 4u);  // the three among the solids, then A - part/2
+  EXPECT_EQ(scene.pairs[0], std::make_pair(0, 1));
+  EXPECT_EQ(scene.pairs[2], std::make_pair(1, 2));
+  EXPECT_EQ(scene.pairs[3], std::make_pair(3, 1));
+}
+
+TEST(Scene, KeysGivenTwiceAreErrorsWithTheirPath) {
+  expect_error(with_bodies(std::string(k_sphere) + R"(, {"name": "B", "shape": {"type": "point"},
+      "motion": {"type": "keyframes", "keyframes": [{"t": 0, "position": [0, 0, 0]},
+                                                    {"t": 1, "t": 2, "position": [1, 0, 0]}]}})"),
+               "bodies[1].motion.keyframes[1].t: key given twice");
+  expect_error(with_bodies(k_sphere, R"(, "time": {"end": 2, "step": 0.1})"),
+               "time: key given twice");
 }
 
 TEST(Scene, MissingSceneFileNamesThePath) {
