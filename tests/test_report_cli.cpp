@@ -14,6 +14,7 @@
 #include "algorithms/Ellipsoid_distance.h"
 #include <nlohmann/json.hpp>
 
+#include "cli/Progress_bar.h"
 #include "support/Cli_run.h"
 #include "kernel/Motion.h"
 
@@ -648,6 +649,42 @@ TEST(ReportCli, PoseTableErrorsNameTheFileAndLine) {
          "1: header 't,y,x,z,qw,qx,qy,qz': expected t,x,y,z,qw,qx,qy,qz");
   expect("0,0,0,0,1,0,0,0\n1,0,0,0,2,0,0,0\n", "2: not a unit quaternion (norm 2.000000)");
 }
+
+TEST(ReportCli, ProgressBarLine) {
+  EXPECT_EQ(cli::Progress_bar::render("demo.json", 250, 1000, 2.0, 20),
+            "demo.json [#####...............]  25% 250/1000 steps, 6 s left");
+  EXPECT_EQ(cli::Progress_bar::render("demo.json", 1000, 1000, 8.0, 10),
+            "demo.json [##########] 100% 1000/1000 steps");
+  // Not a terminal (as under ctest): never draws, whatever the run's length.
+  cli::Progress_bar bar(true, "x", 10);
+  bar.update(5);
+  bar.finish();
+}
+
+#if __has_include("io/Snapshot_writer.h")
+TEST(ReportCli, SnapshotWritesGlbAtTheNearestStep) {
+  const std::string scene = write_scene("extremal_snapshot.json", R"({
+    "time": {"start": 0, "end": 1, "step": 0.1},
+    "bodies": [
+      {"name": "A", "shape": {"type": "sphere", "radius": 1}},
+      {"name": "B", "shape": {"type": "ellipsoid", "axes": [1, 0.5, 0.5]},
+       "pose": {"position": [3, 0, 0]}, "motion": {"type": "twist", "velocity": [-1, 0, 0]}}]})");
+  const std::string glb = temp_path("extremal_snapshot.glb");
+  std::filesystem::remove(glb);
+  const Cli_run r = run("report " + scene + " -o " + temp_path("extremal_snapshot.csv") +
+                        " --snapshot " + glb + " --at 0.52");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("snapshot at the nearest step, t = 0.5"), std::string::npos) << r.out;
+  const std::string bytes = slurp(glb);
+  ASSERT_GE(bytes.size(), 20u);
+  EXPECT_EQ(bytes.substr(0, 4), "glTF");
+  for (const char* name : {"\"A\"", "\"B\"", "\"A - B\""})
+    EXPECT_NE(bytes.find(name), std::string::npos) << name;
+  const Cli_run outside = run("report " + scene + " --snapshot " + glb + " --at 2");
+  EXPECT_EQ(outside.exit_code, 1);
+  EXPECT_EQ(outside.err, "extremal report: --at 2: outside the time of " + scene + " (0 to 1 s)\n");
+}
+#endif
 
 TEST(ReportCli, BadSceneExitsOneAndNamesThePath) {
   const std::string scene = write_scene("extremal_bad.json", R"({
