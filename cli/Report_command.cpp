@@ -20,11 +20,11 @@
 #include "io/Scene.h"
 #include "kernel/Error.h"
 
-// The glTF writer lives in io/ (written alongside this command); builds without it refuse
-// --snapshot with a message instead of failing to compile.
-#if __has_include("io/Snapshot_writer.h")
+// The glTF writer lives in io/ (written alongside this command; cli/CMakeLists.txt defines
+// EXTREMAL_HAS_SNAPSHOT_WRITER when io/ has it); builds without it refuse --snapshot with a
+// message instead of failing to compile.
+#ifdef EXTREMAL_HAS_SNAPSHOT_WRITER
 #include "io/Snapshot_writer.h"
-#define EXTREMAL_HAS_SNAPSHOT_WRITER 1
 #endif
 
 namespace extremal::cli {

@@ -220,12 +220,13 @@ std::string Svg_plot::to_svg() const {
     emit_bucket();
     flush_line();
   }
+  os << "</g>\n";
+  // Markers unclipped: a minimum at the first or last time shows whole.
   for (const auto& m : markers) {
     if (!plotted(m.y) || !std::isfinite(m.x)) continue;
     os << "<circle cx=\"" << fmt(X(m.x)) << "\" cy=\"" << fmt(Y(ty(m.y)))
        << "\" r=\"4.5\" fill=\"" << m.colour << "\" stroke=\"#222222\" stroke-width=\"1\"/>\n";
   }
-  os << "</g>\n";
 
   // Legend, beside the plot area.
   const double lx = left + pw + 16;

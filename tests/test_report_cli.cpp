@@ -661,7 +661,7 @@ TEST(ReportCli, ProgressBarLine) {
   bar.finish();
 }
 
-#if __has_include("io/Snapshot_writer.h")
+#ifdef EXTREMAL_HAS_SNAPSHOT_WRITER
 TEST(ReportCli, SnapshotWritesGlbAtTheNearestStep) {
   const std::string scene = write_scene("extremal_snapshot.json", R"({
     "time": {"start": 0, "end": 1, "step": 0.1},
