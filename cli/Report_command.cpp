@@ -102,8 +102,8 @@ void write_snapshot(const io::Scene& scene, const std::string& path, double t,
 #endif
 }
 
-void run_one(const io::Scene& scene, const Scene_outputs& out, const Report_options& options,
-             bool batch, bool first) {
+void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
+             const Report_options& options, bool batch, bool first) {
   std::unique_ptr<std::ofstream> file;
   std::ostream* stream = &std::cout;
   if (!out.report.empty()) {
@@ -127,9 +127,7 @@ void run_one(const io::Scene& scene, const Scene_outputs& out, const Report_opti
   Progress_bar progress(!options.quiet, std::filesystem::path(scene.path).filename().string(),
                         steps);
 
-  Scene_run_options run;
-  run.threads = options.threads;
-  run_scene(scene, run, [&](int step, double t, const std::vector<Pair_report>& reports) {
+  run.run([&](int step, double t, const std::vector<Pair_report>& reports) {
     for (std::size_t k = 0; k < n_pairs; ++k) {
       const Pair_report& r = reports[k];
       const io::Clearance_state state = clearance_state(r.status);
@@ -185,13 +183,19 @@ int run_report(const Report_options& options) {
     for (const auto& path : options.scenes) scenes.push_back(io::read_scene(path, io::load_bodies));
     const bool batch = scenes.size() > 1;
     const std::vector<std::string> tags = scene_tags(options.scenes);
+    std::vector<Scene_outputs> outputs;
+    std::vector<std::unique_ptr<Scene_run>> runs;  // set up (and so checked) before any runs
+    Scene_run_options run_options;
+    run_options.threads = options.threads;
     for (std::size_t i = 0; i < scenes.size(); ++i) {
-      Scene_outputs out{batch_path(options.output, tags[i], batch),
-                        batch_path(options.plot, tags[i], batch),
-                        batch_path(options.snapshot, tags[i], batch)};
-      if (!out.snapshot.empty()) snapshot_step(scenes[i], options.snapshot_time);  // check early
-      run_one(scenes[i], out, options, batch, i == 0);
+      outputs.push_back({batch_path(options.output, tags[i], batch),
+                         batch_path(options.plot, tags[i], batch),
+                         batch_path(options.snapshot, tags[i], batch)});
+      if (!outputs[i].snapshot.empty()) snapshot_step(scenes[i], options.snapshot_time);
+      runs.push_back(std::make_unique<Scene_run>(scenes[i], run_options));
     }
+    for (std::size_t i = 0; i < scenes.size(); ++i)
+      run_one(scenes[i], *runs[i], outputs[i], options, batch, i == 0);
     return 0;
   } catch (const Invalid_input& e) {
     std::cerr << prefix << e.what() << "\n";

@@ -22,26 +22,33 @@ Body_pair_options pair_options_of(const io::Scene& scene) {
   return o;
 }
 
-void run_scene(const io::Scene& scene, const Scene_run_options& options,
-               const Step_callback& on_step) {
+Scene_run::Scene_run(const io::Scene& scene, const Scene_run_options& options)
+    : m_scene(scene), m_options(options) {
   EXTREMAL_PRECONDITION(options.threads >= 1 && options.block_steps >= 1);
   const Body_pair_options pair_options = pair_options_of(scene);
-  const std::size_t n_pairs = scene.pairs.size();
   // One stepper per pair over just its two bodies: the same poses and twists as one stepper
   // over the whole scene, and nothing shared between threads.
-  std::vector<std::unique_ptr<Scene_stepper>> steppers;
-  steppers.reserve(n_pairs);
+  m_steppers.reserve(scene.pairs.size());
   for (const auto& [a, b] : scene.pairs) {
     const io::Scene_body& A = scene.bodies[a];
     const io::Scene_body& B = scene.bodies[b];
     try {
-      steppers.push_back(std::make_unique<Scene_stepper>(
+      m_steppers.push_back(std::make_unique<Scene_stepper>(
           std::vector<Scene_stepper_body>{{&A.body, &A.motion}, {&B.body, &B.motion}},
           std::vector<std::pair<int, int>>{{0, 1}}, pair_options));
     } catch (const Invalid_input& e) {
       throw Invalid_input(scene.path + ": pair " + A.name + " - " + B.name + ": " + e.what());
     }
   }
+}
+
+Scene_run::~Scene_run() = default;
+
+void Scene_run::run(const Step_callback& on_step) {
+  const io::Scene& scene = m_scene;
+  const Scene_run_options& options = m_options;
+  auto& steppers = m_steppers;
+  const std::size_t n_pairs = scene.pairs.size();
   const int steps = scene.step_count();
   const int block = std::min(options.block_steps, steps);
   std::vector<std::vector<Pair_report>> buffer(n_pairs, std::vector<Pair_report>(block));

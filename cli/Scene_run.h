@@ -5,10 +5,15 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "algorithms/Body_pair_tracker.h"
 #include "io/Scene.h"
+
+namespace extremal {
+class Scene_stepper;
+}
 
 namespace extremal::cli {
 
@@ -25,8 +30,19 @@ struct Scene_run_options {
 using Step_callback =
     std::function<void(int step, double t, const std::vector<Pair_report>& reports)>;
 
-// Throws Invalid_input naming the scene file and the body when a pair cannot be tracked.
-void run_scene(const io::Scene& scene, const Scene_run_options& options,
-               const Step_callback& on_step);
+class Scene_run {
+ public:
+  // Sets up one tracker per pair; throws Invalid_input naming the scene file, the pair and the
+  // body when a pair cannot be tracked (so nothing is written for a scene that cannot run).
+  // The scene must outlive the run.
+  Scene_run(const io::Scene& scene, const Scene_run_options& options);
+  ~Scene_run();
+  void run(const Step_callback& on_step);
+
+ private:
+  const io::Scene& m_scene;
+  Scene_run_options m_options;
+  std::vector<std::unique_ptr<Scene_stepper>> m_steppers;
+};
 
 }  // namespace extremal::cli
