@@ -706,23 +706,6 @@ TEST(ReportCli, BadSceneExitsOneAndNamesThePath) {
   const Cli_run bad_output = run("report " + scene + " -o out.txt");
   EXPECT_EQ(bad_output.exit_code, 1);
   EXPECT_EQ(bad_output.err, "extremal report: -o out.txt: expected a file name ending in .csv or .json\n");
-  // A mesh body in a watched pair: refused before any row is written, even in a batch whose
-  // first scene is fine.
-  const std::string mesh_scene = write_scene("extremal_mesh_pair.json", R"({
-    "time": {"end": 0.1, "step": 0.05},
-    "bodies": [{"name": "cube", "file": ")" + std::string(EXTREMAL_SHARED_DATA) +
-                                                R"(/mesh/cube.ply"},
-               {"name": "probe", "shape": {"type": "point"}, "pose": {"position": [3, 0, 0]}}]})");
-  const std::string good_scene = write_scene("extremal_good.json", R"({
-    "time": {"end": 0.1, "step": 0.05},
-    "bodies": [{"name": "A", "shape": {"type": "sphere", "radius": 1}},
-               {"name": "B", "shape": {"type": "point"}, "pose": {"position": [3, 0, 0]}}]})");
-  const Cli_run mesh = run("report " + good_scene + " " + mesh_scene);
-  EXPECT_EQ(mesh.exit_code, 1);
-  EXPECT_EQ(mesh.out, "");
-  EXPECT_EQ(mesh.err, "extremal report: " + mesh_scene +
-                          ": pair cube - probe: body 'cube' has no NURBS faces or curves (mesh "
-                          "bodies are not tracked yet)\n");
   EXPECT_EQ(run("--help").exit_code, 0);
   EXPECT_EQ(run("report --help").exit_code, 0);
 }
