@@ -174,7 +174,7 @@ int run_distance(const Distance_options& options) {
   } catch (const Invalid_input& e) {
     std::cerr << "extremal distance: " << e.what() << "\n";
     return 1;
-  } catch (const Precondition_violation& e) {
+  } catch (const std::exception& e) {  // Precondition_violation and anything unforeseen
     std::cerr << "extremal distance: " << e.what() << "\n";
     return 1;
   }

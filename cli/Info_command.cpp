@@ -171,6 +171,9 @@ int run_info(const Info_options& options) {
   } catch (const Invalid_input& e) {
     std::cerr << "extremal info: " << e.what() << "\n";
     return 1;
+  } catch (const std::exception& e) {  // anything unforeseen still exits 1 with a message
+    std::cerr << "extremal info: internal error: " << e.what() << "\n";
+    return 1;
   }
 }
 

@@ -1,5 +1,7 @@
 // `extremal report SCENE.json... [-o OUT.csv|OUT.json] [--plot OUT.svg] [--snapshot OUT.glb
 // --at T] [--threads N] [--quiet]`: batch distance reports over time (../shared/CLI.md).
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -124,8 +126,10 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
   const int snap_step = out.snapshot.empty() ? -1 : snapshot_step(scene, options.snapshot_time);
   std::vector<Pair_report> snap_reports;
   const int steps = scene.step_count();
-  Progress_bar progress(!options.quiet, std::filesystem::path(scene.path).filename().string(),
-                        steps);
+  // No bar between rows printed on the same terminal.
+  const bool rows_on_terminal = out.report.empty() && ::isatty(STDOUT_FILENO) == 1;
+  Progress_bar progress(!options.quiet && !rows_on_terminal,
+                        std::filesystem::path(scene.path).filename().string(), steps);
 
   run.run([&](int step, double t, const std::vector<Pair_report>& reports) {
     for (std::size_t k = 0; k < n_pairs; ++k) {
@@ -200,7 +204,7 @@ int run_report(const Report_options& options) {
   } catch (const Invalid_input& e) {
     std::cerr << prefix << e.what() << "\n";
     return 1;
-  } catch (const Precondition_violation& e) {
+  } catch (const std::exception& e) {  // Precondition_violation and anything unforeseen
     std::cerr << prefix << "internal error: " << e.what() << "\n";
     return 1;
   }
