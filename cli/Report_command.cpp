@@ -121,7 +121,8 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
 
   const std::size_t n_pairs = scene.pairs.size();
   std::vector<io::Pair_summary_builder> summaries(n_pairs);
-  std::vector<Pair_series> series(out.plot.empty() ? 0 : n_pairs);
+  std::vector<Pair_series> series(out.plot.empty() ? 0 : n_pairs,
+                                  Pair_series(scene.step_count()));
   std::vector<bool> was_farther(n_pairs, false);
   const int snap_step = out.snapshot.empty() ? -1 : snapshot_step(scene, options.snapshot_time);
   std::vector<Pair_report> snap_reports;
@@ -138,8 +139,7 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
       const bool farther = state == io::Clearance_state::Farther;
       summaries[k].add(t, r.distance, state);
       if (!series.empty()) {
-        series[k].t.push_back(t);
-        series[k].distance.push_back(farther ? std::nan("") : r.distance);
+        series[k].add(t, farther ? std::nan("") : r.distance);
       }
       // A pair beyond the threshold is reported once when it goes there, not at every step.
       if (!(farther && was_farther[k])) {
@@ -157,6 +157,7 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
   for (const auto& s : summaries) result.push_back(s.summary());
   writer->finish(result);
   if (file && !*file) throw Invalid_input(out.report + ": write failed");
+  for (auto& s : series) s.finish();
   if (!out.plot.empty()) report_plot(scene, series, result).write(out.plot);
   if (!out.snapshot.empty())
     write_snapshot(scene, out.snapshot, scene.time_of(snap_step), snap_reports);

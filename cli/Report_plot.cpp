@@ -28,6 +28,43 @@ std::vector<io::Time_interval> minus(const std::vector<io::Time_interval>& outer
 
 }  // namespace
 
+Pair_series::Pair_series(long total_rows, long points)
+    : m_bucket(std::max(1L, total_rows / std::max(1L, points / 4))) {}
+
+void Pair_series::flush() {
+  if (m_in_bucket == 0) return;
+  Row rows[4] = {m_first, m_low, m_high, m_last};
+  std::sort(rows, rows + 4, [](const Row& a, const Row& b) { return a.t < b.t; });
+  for (int i = 0; i < 4; ++i) {
+    if (i > 0 && rows[i].t == rows[i - 1].t) continue;
+    m_t.push_back(rows[i].t);
+    m_d.push_back(rows[i].d);
+  }
+  m_in_bucket = 0;
+}
+
+void Pair_series::add(double t, double distance) {
+  if (!std::isfinite(distance)) {  // a gap: ends the bucket, recorded once
+    flush();
+    if (m_d.empty() || std::isfinite(m_d.back())) {
+      m_t.push_back(t);
+      m_d.push_back(distance);
+    }
+    return;
+  }
+  const Row row{t, distance};
+  if (m_in_bucket == 0) {
+    m_first = m_low = m_high = row;
+  } else {
+    if (distance < m_low.d) m_low = row;
+    if (distance > m_high.d) m_high = row;
+  }
+  m_last = row;
+  if (++m_in_bucket == m_bucket) flush();
+}
+
+void Pair_series::finish() { flush(); }
+
 io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
                          const std::vector<io::Pair_summary>& summaries) {
   io::Svg_plot plot;
@@ -56,8 +93,8 @@ io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>&
     const std::string name = scene.bodies[a].name + " - " + scene.bodies[b].name;
     io::Svg_series s;
     s.label = name;
-    s.x = series[k].t;
-    s.y = series[k].distance;
+    s.x = series[k].t();
+    s.y = series[k].distance();
     s.colour = io::plot_colour(k);
     for (double d : s.y)
       if (std::isfinite(d)) lowest = std::min(lowest, d), highest = std::max(highest, d);
