@@ -1,6 +1,7 @@
 // End-to-end: runs the `extremal` binary on scenes and checks its rows against exact answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/Progress_bar.h"
+#include "cli/Report_plot.h"
 #include "support/Cli_run.h"
 #include "kernel/Motion.h"
 
@@ -648,6 +650,32 @@ TEST(ReportCli, PoseTableErrorsNameTheFileAndLine) {
   expect("t,y,x,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n",
          "1: header 't,y,x,z,qw,qx,qy,qz': expected t,x,y,z,qw,qx,qy,qz");
   expect("0,0,0,0,1,0,0,0\n1,0,0,0,2,0,0,0\n", "2: not a unit quaternion (norm 2.000000)");
+}
+
+TEST(ReportCli, PlotSeriesThinsLongRunsButKeepsADipAndTheGaps) {
+  cli::Pair_series s(1000000);
+  for (int i = 0; i < 1000000; ++i) {
+    const double t = i * 1e-6;
+    double d = 1.0 + 0.1 * std::sin(6 * t);
+    if (i == 123457) d = -0.5;                      // one row inside
+    if (i >= 500000 && i < 600000) d = std::nan("");  // farther: a gap
+    s.add(t, d);
+  }
+  s.finish();
+  EXPECT_LE(s.t().size(), 8100u);
+  int gaps = 0;
+  double lowest = HUGE_VAL;
+  for (std::size_t i = 0; i < s.distance().size(); ++i) {
+    gaps += std::isnan(s.distance()[i]);
+    if (std::isfinite(s.distance()[i])) lowest = std::min(lowest, s.distance()[i]);
+    if (i > 0) {
+      EXPECT_LT(s.t()[i - 1], s.t()[i]);
+    }
+  }
+  EXPECT_EQ(lowest, -0.5);
+  EXPECT_EQ(gaps, 1);
+  EXPECT_EQ(s.t().front(), 0.0);
+  EXPECT_EQ(s.t().back(), 999999 * 1e-6);
 }
 
 TEST(ReportCli, ProgressBarLine) {
