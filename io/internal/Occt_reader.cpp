@@ -20,6 +20,9 @@
 #include <sstream>
 
 #include <BRepAdaptor_Surface.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
 #include <Bnd_Box.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepTools.hxx>
@@ -555,6 +558,59 @@ Body convert_shape(const TopoDS_Shape& shape, Session& ss, const std::string& bo
   return body;
 }
 
+// What OpenCASCADE says about a solid as read (after the reader's own shape healing, which
+// already re-orients misoriented faces): a valid shape (BRepCheck), a closed and consistently
+// oriented boundary, a positive volume (a solid whose faces all point inwards passes the other
+// checks). Anything else is a warning naming the solid.
+void check_solid(const TopoDS_Shape& solid, const std::string& label, Session& ss) {
+  try {
+    BRepCheck_Analyzer analyzer(solid);
+    if (!analyzer.IsValid())
+      ss.model->warnings.push_back(label +
+                                   ": OpenCASCADE's shape check (BRepCheck) finds the shape invalid");
+    // Every edge of a closed, consistently oriented boundary is used by its faces once
+    // forward and once reversed (a seam by its one face both ways).
+    TopTools_IndexedMapOfShape edges;
+    std::vector<int> forward, reversed;
+    for (TopExp_Explorer fx(solid, TopAbs_FACE); fx.More(); fx.Next())
+      for (TopExp_Explorer ex(fx.Current(), TopAbs_EDGE); ex.More(); ex.Next()) {
+        const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+        if (BRep_Tool::Degenerated(e)) continue;
+        const int k = edges.Add(e) - 1;
+        forward.resize(edges.Extent(), 0);
+        reversed.resize(edges.Extent(), 0);
+        if (e.Orientation() == TopAbs_FORWARD) ++forward[k];
+        if (e.Orientation() == TopAbs_REVERSED) ++reversed[k];
+      }
+    int free_edges = 0, misoriented = 0;
+    for (int k = 0; k < edges.Extent(); ++k) {
+      if (forward[k] + reversed[k] < 2) ++free_edges;
+      else if (forward[k] != 1 || reversed[k] != 1) ++misoriented;
+    }
+    if (free_edges > 0) {
+      ss.model->warnings.push_back(label + ": the boundary is not closed (" +
+                                   std::to_string(free_edges) + " edges bound only one face)");
+      return;  // no volume to check
+    }
+    if (misoriented > 0)
+      ss.model->warnings.push_back(label + ": the faces are not consistently oriented (" +
+                                   std::to_string(misoriented) +
+                                   " edges are not used once each way)");
+    if (solid.ShapeType() != TopAbs_SOLID) return;
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(solid, props);
+    if (!(props.Mass() > 0.0)) {
+      std::ostringstream os;
+      os << label << ": the solid's volume is " << props.Mass()
+         << " (its faces point inwards or it is empty)";
+      ss.model->warnings.push_back(os.str());
+    }
+  } catch (const Standard_Failure& e) {
+    ss.model->warnings.push_back(label + ": OpenCASCADE's shape check failed (" + failure_text(e) +
+                                 ")");
+  }
+}
+
 // Splits a part into bodies: one per solid, one per free shell, one for the remaining faces.
 void emit_part(const TopoDS_Shape& part, const Rigid_pose_3& placement, const std::string& name,
                Session& ss) {
@@ -582,6 +638,9 @@ void emit_part(const TopoDS_Shape& part, const Rigid_pose_3& placement, const st
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const std::string label =
         pieces.size() == 1 ? "'" + name + "'" : "'" + name + "' solid " + std::to_string(k + 1);
+    // A solid, or a shell (OpenCASCADE's healing turns a solid whose shell is open into one).
+    if (pieces[k].ShapeType() == TopAbs_SOLID || pieces[k].ShapeType() == TopAbs_SHELL)
+      check_solid(pieces[k], label, ss);
     Body b = convert_shape(pieces[k], ss, label);
     if (b.faces.empty()) {
       ss.skip(label, "no face could be converted", "body skipped");
