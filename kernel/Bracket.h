@@ -25,7 +25,7 @@ namespace extremal {
 struct Bracket_size {
   double width = 8.0;       // w, along x
   double height = 4.0;      // h, along z
-  double length = 6.0;      // l, along y
+  double length = 10.0;     // l, along y
   double floor = 1.0;       // f, the slot floor's height
   double slot_width = 5.0;  // s
   double fillet = 1.0;      // r, slot bottom corners (concave)

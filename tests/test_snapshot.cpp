@@ -131,8 +131,8 @@ TEST(Snapshot, BodiesAndWitnessSegmentsReadBackPosed) {
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
-  EXPECT_LT((lo - Vec3(-4, -3, 0)).norm(), 1e-5);
-  EXPECT_LT((hi - Vec3(4, 3, 4)).norm(), 1e-5);
+  EXPECT_LT((lo - Vec3(-4, -5, 0)).norm(), 1e-5);
+  EXPECT_LT((hi - Vec3(4, 5, 4)).norm(), 1e-5);
   int in_slot = 0;
   for (const auto& f : b.faces) {
     const Vec3 c = to_b.apply_point((b.points[f[0]] + b.points[f[1]] + b.points[f[2]]) / 3.0);

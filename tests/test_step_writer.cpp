@@ -139,7 +139,7 @@ TEST(StepWriter, BracketRoundTripsThroughOpenCascade) {
   for (const Edge& e : b.edges) EXPECT_EQ(e.uses.size(), 2u);
 
   const Bbox_3 box = b.trimmed_bbox(b.placement);
-  const double expected[6] = {-4, -3, 0, 4, 3, 4};
+  const double expected[6] = {-4, -5, 0, 4, 5, 4};
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(box.min(k), expected[k], 1e-9);
     EXPECT_NEAR(box.max(k), expected[k + 3], 1e-9);
