@@ -3,16 +3,21 @@
 //    segments a single line whose end points are the witness points;
 //  - vertices, taken through the node transforms back to scene coordinates, lie on the posed
 //    surfaces and span the posed bodies' boxes; normals point outward;
-//  - trimmed faces keep their holes: no triangle of the bracket's end caps lies in the slot.
+//  - trimmed faces keep their holes: no triangle of the bracket's end caps lies in the slot;
+//  - `extremal report --snapshot OUT.glb --at T` on the demo: every body and watched pair, the
+//    segments ending at the report's witness points at T; --at outside the run is bad input.
 #include "io/Snapshot_writer.h"
 #include "kernel/Bracket.h"
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"
+#include "support/Cli_run.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
@@ -139,6 +144,40 @@ TEST(Snapshot, BodiesAndWitnessSegmentsReadBackPosed) {
     if (std::abs(c.x()) < 2.5 - 1e-6 && c.z() > 2.0 + 1e-6) ++in_slot;  // above the fillets
   }
   EXPECT_EQ(in_slot, 0);
+}
+
+TEST(Snapshot, ReportCommandWritesTheDemoAtT) {
+  const std::string glb = binary_dir + "/test_snapshot_demo.glb";
+  const std::string csv = binary_dir + "/test_snapshot_demo.csv";
+  const std::string scene = std::string(EXTREMAL_SOURCE_DIR) + "/data/demo/demo.json";
+  const test::Cli_run run =
+      test::run_cli("report " + scene + " --quiet -o " + csv + " --snapshot " + glb + " --at 2.2");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto meshes = read_back(glb, 0.001);
+  for (const char* name : {"A", "B", "bracket", "A - B", "A - bracket"})
+    EXPECT_TRUE(meshes.count(name)) << name;
+  // The report's witness points at t = 2.2 are the segments' ends.
+  std::ifstream in(csv);
+  std::string line;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("2.2000000000000002,", 0) != 0) continue;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    const Vec3 a(std::stod(f[4]), std::stod(f[5]), std::stod(f[6]));
+    const Vec3 b(std::stod(f[7]), std::stod(f[8]), std::stod(f[9]));
+    const Read_mesh& seg = meshes.at(f[1] + " - " + f[2]);
+    ASSERT_EQ(seg.points.size(), 2u);
+    EXPECT_LT((seg.points[0] - a).norm(), 1e-5) << line;
+    EXPECT_LT((seg.points[1] - b).norm(), 1e-5) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 2);
+  const test::Cli_run late = test::run_cli("report " + scene + " --quiet -o " + csv +
+                                           " --snapshot " + glb + " --at 7");
+  EXPECT_EQ(late.exit_code, 1);
+  EXPECT_NE(late.err.find("--at 7"), std::string::npos) << late.err;
 }
 
 TEST(Snapshot, BadInputNamesThePath) {
