@@ -111,8 +111,9 @@ void tessellate_face(Tessellation& t, const Face& face, const Rigid_pose_3& pose
       const int samples = std::max(8, 4 * c.number_of_poles());
       for (int k = 0; k <= samples; ++k) {
         const int kk = tc.reversed ? samples - k : k;
-        const double par = kk == samples ? c.domain_max()
-                                         : c.domain_min() + (c.domain_max() - c.domain_min()) * kk / samples;
+        const double par = kk == samples
+                               ? c.domain_max()
+                               : c.domain_min() + (c.domain_max() - c.domain_min()) * kk / samples;
         const Point_3 q = c.point(par);
         const Cdt::Vertex_handle vh = cdt.insert(Point_2(q.x(), q.y()));
         if (first == Cdt::Vertex_handle()) first = vh;
@@ -153,7 +154,8 @@ Tessellation tessellate(const Body& body, const Rigid_pose_3& pose, int per_span
   const int nv = static_cast<int>(body.mesh.vertices.size());
   for (const auto& tri : body.mesh.triangles) {
     if (std::any_of(tri.begin(), tri.end(), [&](int k) { return k < 0 || k >= nv; })) continue;
-    t.triangles.push_back({first + static_cast<unsigned>(tri[0]), first + static_cast<unsigned>(tri[1]),
+    t.triangles.push_back({first + static_cast<unsigned>(tri[0]),
+                           first + static_cast<unsigned>(tri[1]),
                            first + static_cast<unsigned>(tri[2])});
     // Mesh vertices take the normal of their triangles (area weighted).
     const Vec3 n = (t.points[first + tri[1]] - t.points[first + tri[0]])

@@ -128,7 +128,8 @@ class Step_text {
 
   std::string data() const {
     std::ostringstream os;
-    for (std::size_t i = 0; i < m_lines.size(); ++i) os << '#' << (i + 1) << '=' << m_lines[i] << ";\n";
+    for (std::size_t i = 0; i < m_lines.size(); ++i)
+      os << '#' << (i + 1) << '=' << m_lines[i] << ";\n";
     return os.str();
   }
 
@@ -255,15 +256,15 @@ int write_solid(Step_text& out, const Body& body, std::size_t body_index) {
       std::string oriented = "(";
       for (std::size_t k = 0; k < loops[f][l].size(); ++k) {
         const Use& u = loops[f][l][k];
-        oriented += (k ? "," : "") +
-                    Step_text::ref(out.add("ORIENTED_EDGE('',*,*," + Step_text::ref(edge_ids[u.edge]) +
-                                           (u.forward ? ",.T.)" : ",.F.)")));
+        const int oe = out.add("ORIENTED_EDGE('',*,*," + Step_text::ref(edge_ids[u.edge]) +
+                               (u.forward ? ",.T.)" : ",.F.)"));
+        oriented += (k ? "," : "") + Step_text::ref(oe);
       }
       oriented += ")";
       const int loop = out.add("EDGE_LOOP(''," + oriented + ")");
       const char* kind = face.trims[l].is_outer ? "FACE_OUTER_BOUND" : "FACE_BOUND";
-      bounds += (l ? "," : "") +
-                Step_text::ref(out.add(std::string(kind) + "(''," + Step_text::ref(loop) + ",.T.)"));
+      const int bound = out.add(std::string(kind) + "(''," + Step_text::ref(loop) + ",.T.)");
+      bounds += (l ? "," : "") + Step_text::ref(bound);
     }
     bounds += ")";
     const int surface =
@@ -285,10 +286,12 @@ std::string step_document(const std::vector<Body>& bodies, const Step_write_opti
       options.product_name.empty() ? (bodies[0].name.empty() ? "part" : bodies[0].name)
                                    : options.product_name;
   Step_text out;
-  const int app = out.add("APPLICATION_CONTEXT('core data for automotive mechanical design processes')");
+  const int app =
+      out.add("APPLICATION_CONTEXT('core data for automotive mechanical design processes')");
   out.add("APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000," +
           Step_text::ref(app) + ")");
-  const int product_context = out.add("PRODUCT_CONTEXT(''," + Step_text::ref(app) + ",'mechanical')");
+  const int product_context =
+      out.add("PRODUCT_CONTEXT(''," + Step_text::ref(app) + ",'mechanical')");
   const int prod = out.add("PRODUCT(" + text(product) + "," + text(product) + ",'',(" +
                            Step_text::ref(product_context) + "))");
   out.add("PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(" + Step_text::ref(prod) + "))");
