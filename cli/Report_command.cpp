@@ -22,12 +22,7 @@
 #include "io/Scene.h"
 #include "kernel/Error.h"
 
-// The glTF writer lives in io/ (written alongside this command; cli/CMakeLists.txt defines
-// EXTREMAL_HAS_SNAPSHOT_WRITER when io/ has it); builds without it refuse --snapshot with a
-// message instead of failing to compile.
-#ifdef EXTREMAL_HAS_SNAPSHOT_WRITER
 #include "io/Snapshot_writer.h"
-#endif
 
 namespace extremal::cli {
 
@@ -84,7 +79,6 @@ int snapshot_step(const io::Scene& scene, double at) {
 
 void write_snapshot(const io::Scene& scene, const std::string& path, double t,
                     const std::vector<Pair_report>& reports) {
-#ifdef EXTREMAL_HAS_SNAPSHOT_WRITER
   std::vector<io::Snapshot_body> bodies;
   for (const auto& b : scene.bodies)
     bodies.push_back({b.name, &b.body, b.motion.pose_at(t) * b.body.placement});
@@ -98,10 +92,6 @@ void write_snapshot(const io::Scene& scene, const std::string& path, double t,
   io::Snapshot_options options;
   options.unit_in_metres = io::unit_in_mm(scene.units) / 1000.0;
   io::write_snapshot_glb(path, bodies, segments, options);
-#else
-  (void)scene, (void)t, (void)reports;
-  throw Invalid_input("--snapshot " + path + ": this build has no glTF writer");
-#endif
 }
 
 void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,

@@ -689,7 +689,6 @@ TEST(ReportCli, ProgressBarLine) {
   bar.finish();
 }
 
-#ifdef EXTREMAL_HAS_SNAPSHOT_WRITER
 TEST(ReportCli, SnapshotWritesGlbAtTheNearestStep) {
   const std::string scene = write_scene("extremal_snapshot.json", R"({
     "time": {"start": 0, "end": 1, "step": 0.1},
@@ -712,7 +711,6 @@ TEST(ReportCli, SnapshotWritesGlbAtTheNearestStep) {
   EXPECT_EQ(outside.exit_code, 1);
   EXPECT_EQ(outside.err, "extremal report: --at 2: outside the time of " + scene + " (0 to 1 s)\n");
 }
-#endif
 
 TEST(ReportCli, BadSceneExitsOneAndNamesThePath) {
   const std::string scene = write_scene("extremal_bad.json", R"({
