@@ -75,21 +75,21 @@ Formulation Extremal_tracker::choose_form() const {
   return m_in_band ? m_normal_form : Formulation::Projection;
 }
 
-double Extremal_tracker::signed_distance(const Vec4& params) const {
+unsigned Extremal_tracker::edge_mask(const Vec4& params) const {
+  Vec4 p = params;
+  return m_domain.clamp(p) & ~m_pole_bounds;
+}
+
+double Extremal_tracker::signed_distance(unsigned on_edge) const {
   // Inside when d points against the reference face's outward normal at an interior point of
   // the face. On a face edge the normal says nothing about the solid (beside a cylinder's cap
   // rim, say, d points below the cap's plane while the bodies are apart): positive there.
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = ab.norm();
-  auto on_edge = [&](int first, int count) {
-    Vec4 p = params;
-    const unsigned mask = m_domain.clamp(p) & ~m_pole_bounds;
-    return (mask >> first) & ((1u << count) - 1u);
-  };
   if (m_a.dimension() == 2)
-    return ab.dot(m_system.normal_a) < 0.0 && !on_edge(0, 2) ? -len : len;
+    return ab.dot(m_system.normal_a) < 0.0 && !(on_edge & 3u) ? -len : len;
   if (m_b.dimension() == 2)
-    return ab.dot(m_system.normal_b) > 0.0 && !on_edge(m_a.dimension(), 2) ? -len : len;
+    return ab.dot(m_system.normal_b) > 0.0 && !((on_edge >> m_a.dimension()) & 3u) ? -len : len;
   return len;
 }
 
@@ -134,14 +134,17 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   Vec4 p = params;
   // A pole is no edge: the pair goes over it (cross_poles), so it never freezes there.
   const unsigned on_bound = m_domain.clamp(p) & ~m_pole_bounds;
-  const unsigned lower = m_domain.lower_mask(p);
+  const unsigned lower = on_bound ? m_domain.lower_mask(p) : 0u;  // only read where on_bound
+  // Kept for fill_result, which describes the pair this system was built at.
+  m_last_on_edge = on_bound;
+  m_last_signed = signed_distance(on_bound);
   Solve_mode mode = solve_mode_for(m_system);
   mode.scaled_shift = true;
   // Seek a minimum in the projection form while apart. The penetration pair is a saddle and
   // is tracked as such, but only once the pair is nearly converged: far from it the sign of
   // the distance means nothing yet.
   mode.minimum = m_system.form == Formulation::Projection &&
-                 (signed_distance(params) >= 0.0 ||
+                 (m_last_signed >= 0.0 ||
                   normalised_projection_errors(m_system).cwiseAbs().maxCoeff() > 0.1);
   if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) {
     degeneracy = classify_singular();
@@ -192,7 +195,7 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
         m_options.correction_tolerance)
       break;
     const bool minimum =
-        m_system.form == Formulation::Projection && signed_distance(m_params) >= 0.0;
+        m_system.form == Formulation::Projection && signed_distance(edge_mask(m_params)) >= 0.0;
     const double before = merit(minimum);
     Vec4 U;
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
@@ -211,13 +214,13 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   return done;
 }
 
-void Extremal_tracker::fill_result(double t) {
+void Extremal_tracker::fill_result(double t, double signed_dist) {
   Track_result& r = m_result;
   r.time = t;
   r.params = m_params;
   r.point_a = m_system.a.p;
   r.point_b = m_system.b.p;
-  r.distance = signed_distance(m_params);
+  r.distance = signed_dist;
   if (r.distance != 0.0) {
     r.normal = (r.point_b - r.point_a) / r.distance;
   } else if (m_a.dimension() == 2) {
@@ -236,7 +239,7 @@ const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_W
                                                const Rigid_pose_3& X_WB) {
   build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false,
                     choose_form());
-  fill_result(t);
+  fill_result(t, signed_distance(edge_mask(m_params)));
   m_result.iterations = 0;
   m_result.status = Track_status::Tracking;
   m_result.degeneracy = Degeneracy::None;
@@ -250,8 +253,9 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
   const int substeps = m_options.substeps;
   const double h = dt / substeps;
   Degeneracy degeneracy = Degeneracy::None;
-  int solves = correct(X_WA, X_WB, degeneracy);
+  int solves = m_options.corrections > 0 ? correct(X_WA, X_WB, degeneracy) : 0;
   Vec4 x = m_params;
+  bool result_on_edge = false;
   for (int s = 0; s < substeps; ++s) {
     // Poses at the start of the substep, from the twists (held constant over the step).
     const double tau = s * h;
@@ -260,7 +264,10 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
     Vec4 k1;
     control(x, A0, &V_A, B0, &V_B, h, k1, degeneracy);
     ++solves;
-    if (s == 0) fill_result(t);  // the pair at time t, before the parameters move
+    if (s == 0) {  // the pair at time t, before the parameters move
+      fill_result(t, m_last_signed);
+      result_on_edge = m_last_on_edge != 0;
+    }
     if (m_options.integrator == Integrator::Euler) {
       x += h * k1;
     } else {
@@ -281,15 +288,13 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
       solves += 3;
       x += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    cross_poles(x);
+    if (m_pole_bounds) cross_poles(x);  // only pairs with poles cross them
     m_domain.clamp(x);
   }
   m_params = x;
-  Vec4 probe = m_result.params;
-  const bool on_edge = (m_domain.clamp(probe) & ~m_pole_bounds) != 0;
   m_result.degeneracy = degeneracy;
   m_result.status = degeneracy != Degeneracy::None ? Track_status::Singular_fallback
-                    : on_edge                        ? Track_status::On_boundary
+                    : result_on_edge                 ? Track_status::On_boundary
                                                      : Track_status::Tracking;
   m_result.iterations = solves;
   return m_result;

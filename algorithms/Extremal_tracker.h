@@ -102,13 +102,15 @@ class Extremal_tracker {
                const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt, Vec4& U,
                Degeneracy& degeneracy);
   Formulation choose_form() const;
-  // Signed |d| for the system last built, at `params`.
-  double signed_distance(const Vec4& params) const;
+  // Bit k set when parameter k sits on a patch edge (poles excluded).
+  unsigned edge_mask(const Vec4& params) const;
+  // Signed |d| for the system last built, at parameters whose edge_mask is `on_edge`.
+  double signed_distance(unsigned on_edge) const;
   Degeneracy classify_singular() const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;
   int correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Degeneracy& degeneracy);
-  void fill_result(double t);
+  void fill_result(double t, double signed_dist);
 
   Feature m_a, m_b;
   Tracker_options m_options;
@@ -121,6 +123,9 @@ class Extremal_tracker {
   unsigned m_pole_bounds = 0;  // bit k: parameter k's bounds are poles, not edges
   Pair_system m_system;
   Track_result m_result;
+  // Of the last control(): the edge mask of its parameters and the signed distance there.
+  unsigned m_last_on_edge = 0;
+  double m_last_signed = 0.0;
 };
 
 }  // namespace extremal

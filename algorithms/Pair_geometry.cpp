@@ -12,22 +12,33 @@ namespace extremal {
 
 namespace {
 
-// Unit outward normal of a surface feature and its derivatives along the two parameters.
-void outward_normal(const Feature_point& f, int sign, Vec3& n, Vec3 dn[2]) {
+// Unit outward normal of a surface feature and, when `dn` is not null, its derivatives along
+// the two parameters (only the normal forms need them).
+void outward_normal(const Feature_point& f, int sign, Vec3& n, Vec3* dn) {
   const Vec3 m = sign * f.d[0].cross(f.d[1]);
   const double len = m.norm();
   if (!(len > 0.0)) {
     n.setZero();
-    dn[0].setZero();
-    dn[1].setZero();
+    if (dn) {
+      dn[0].setZero();
+      dn[1].setZero();
+    }
     return;
   }
   n = m / len;
+  if (!dn) return;
   for (int k = 0; k < 2; ++k) {
     const Vec3 dm = sign * (f.dd[0][k].cross(f.d[1]) + f.d[0].cross(f.dd[1][k]));
     dn[k] = (dm - n * n.dot(dm)) / len;
   }
 }
+
+// Phi, the projection errors and M of any form and feature dimensions.
+void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const Vec3* dn_a,
+                        const Vec3* dn_b);
+// The motion term b of the system's form (zero unless `with_motion` and a body moves).
+void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
+                bool with_motion);
 
 }  // namespace
 
@@ -42,15 +53,47 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
   s.d = d;
   Vec3 dn_a[2], dn_b[2];
   const bool surf_a = na == 2, surf_b = nb == 2;
-  if (surf_a) outward_normal(s.a, A.feature->outward_sign(), s.normal_a, dn_a);
-  else s.normal_a.setZero();
-  if (surf_b) outward_normal(s.b, B.feature->outward_sign(), s.normal_b, dn_b);
-  else s.normal_b.setZero();
   if ((form == Formulation::Normal_of_a && (!surf_a || nb == 0)) ||
       (form == Formulation::Normal_of_b && (!surf_b || na == 0)))
     form = Formulation::Projection;
   s.form = form;
+  if (surf_a)
+    outward_normal(s.a, A.feature->outward_sign(), s.normal_a,
+                   form == Formulation::Normal_of_a ? dn_a : nullptr);
+  else
+    s.normal_a.setZero();
+  if (surf_b)
+    outward_normal(s.b, B.feature->outward_sign(), s.normal_b,
+                   form == Formulation::Normal_of_b ? dn_b : nullptr);
+  else
+    s.normal_b.setZero();
 
+  if (na == 2 && nb == 2 && form == Formulation::Projection) {
+    // Surface-surface in the projection form, the tracker's hot case: the loops below written
+    // out (same expressions, same rounding).
+    const Vec3 *fa = s.a.d, *fb = s.b.d;
+    s.projection = Vec4(d.dot(fa[0]), d.dot(fa[1]), d.dot(fb[0]), d.dot(fb[1]));
+    s.phi = s.projection;
+    Mat4& M = s.M;
+    for (int i = 0; i < 2; ++i) {
+      for (int k = 0; k < 2; ++k) {
+        M(i, k) = fa[k].dot(fa[i]) + d.dot(s.a.dd[i][k]);
+        M(i, 2 + k) = -fb[k].dot(fa[i]);
+        M(2 + i, k) = fa[k].dot(fb[i]);
+        M(2 + i, 2 + k) = -fb[k].dot(fb[i]) + d.dot(s.b.dd[i][k]);
+      }
+    }
+  } else {
+    build_general_rows(s, d, form, dn_a, dn_b);
+  }
+  add_motion(A, B, s, with_motion);
+}
+
+namespace {
+
+void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const Vec3* dn_a,
+                        const Vec3* dn_b) {
+  const int na = s.na, nb = s.nb;
   s.phi.setZero();
   s.projection.setZero();
   s.M.setIdentity();
@@ -79,6 +122,13 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
     for (int l = 0; l < nb; ++l)
       s.M(na + j, na + l) = -s.b.d[l].dot(s.b.d[j]) + d.dot(s.b.dd[j][l]);
   }
+}
+
+void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
+                bool with_motion) {
+  const int na = s.na, nb = s.nb;
+  const Formulation form = s.form;
+  const Vec3& d = s.d;
   s.motion.setZero();
   if (!with_motion) return;
   const bool moving_a = A.twist && !A.twist->is_zero();
@@ -104,15 +154,27 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
   }
 }
 
+}  // namespace
+
 Vec4 normalised_projection_errors(const Pair_system& s) {
   Vec4 e = Vec4::Zero();
   const double dist = s.d.norm();
+  if (s.na == 2 && s.nb == 2) {  // the loop below with each tangent's length taken once
+    const double n2[4] = {s.a.d[0].squaredNorm(), s.a.d[1].squaredNorm(),
+                          s.b.d[0].squaredNorm(), s.b.d[1].squaredNorm()};
+    for (int k = 0; k < 4; ++k) {
+      if (n2[k] <= 1e-16 * n2[k ^ 1]) continue;
+      const double denom = dist * std::sqrt(n2[k]);
+      e[k] = denom > 0.0 ? s.projection[k] / denom : 0.0;
+    }
+    return e;
+  }
   for (int k = 0; k < s.size(); ++k) {
     // A tangent that vanishes (a pole) carries no condition: its error is rounding noise.
     const Vec3& other = k < s.na ? s.a.d[s.na - 1 - k] : s.b.d[s.nb - 1 - (k - s.na)];
-    const double len = s.tangent(k).norm();
-    if (len <= 1e-8 * other.norm()) continue;
-    const double denom = dist * len;
+    const double len2 = s.tangent(k).squaredNorm();
+    if (len2 <= 1e-16 * other.squaredNorm()) continue;  // |t_k| <= 1e-8 |t_other|
+    const double denom = dist * std::sqrt(len2);
     e[k] = denom > 0.0 ? s.projection[k] / denom : 0.0;
   }
   return e;
@@ -130,6 +192,10 @@ Parameter_domain Parameter_domain::of(const Feature& A, const Feature& B) {
 }
 
 unsigned Parameter_domain::clamp(Vec4& params) const {
+  // The usual case, every parameter strictly inside (NaN fails the test): nothing to do.
+  bool inside = true;
+  for (int k = 0; k < n; ++k) inside &= params[k] > lower[k] && params[k] < upper[k];
+  if (inside) return 0;
   unsigned mask = 0;
   for (int k = 0; k < n; ++k) {
     const double lo = lower[k], hi = upper[k];
@@ -164,8 +230,54 @@ unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params) {
 
 namespace {
 
+// The common case of solve_masked, written out: nothing frozen, seeking a minimum, H = S M
+// symmetrised and positive definite with every pivot above the singularity threshold. Returns
+// false (x untouched) whenever the general path has to decide (shift, singular, non-finite), so
+// both give the same answer where this one answers.
+bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scale, Vec4& x) {
+  double S[4], h[4][4], r[4];
+  for (int k = 0; k < 4; ++k) S[k] = k >= na && k < n ? -1.0 : 1.0;
+  for (int i = 0; i < 4; ++i) {
+    r[i] = S[i] * rhs[i];
+    for (int j = 0; j <= i; ++j) h[i][j] = 0.5 * (S[i] * M(i, j) + S[j] * M(j, i));
+  }
+  // Cholesky H = L L^T, L in the lower triangle of h; pivots are L_kk^2.
+  const double tiny = 1e-12 * scale;
+  double inv[4];
+  for (int j = 0; j < 4; ++j) {
+    double p = h[j][j];
+    for (int k = 0; k < j; ++k) p -= h[j][k] * h[j][k];
+    if (!(p > tiny)) return false;
+    const double l = std::sqrt(p);
+    inv[j] = 1.0 / l;
+    for (int i = j + 1; i < 4; ++i) {
+      double v = h[i][j];
+      for (int k = 0; k < j; ++k) v -= h[i][k] * h[j][k];
+      h[i][j] = v * inv[j];
+    }
+  }
+  double y[4];
+  for (int i = 0; i < 4; ++i) {
+    double v = r[i];
+    for (int k = 0; k < i; ++k) v -= h[i][k] * y[k];
+    y[i] = v * inv[i];
+  }
+  Vec4 z;
+  for (int i = 3; i >= 0; --i) {
+    double v = y[i];
+    for (int k = i + 1; k < 4; ++k) v -= h[k][i] * z[k];
+    z[i] = v * inv[i];
+  }
+  if (!z.allFinite()) return false;
+  x = z;
+  return true;
+}
+
 bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const Solve_mode& mode,
                   Vec4& x) {
+  if (mode.minimum && !mode.damped && frozen == 0 && mode.scale > 0.0 &&
+      solve_minimum_pd(M, rhs, mode.na, n, mode.scale, x))
+    return true;
   Mat4 A = M;
   Vec4 r = rhs;
   for (int k = 0; k < 4; ++k) {
