@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "algorithms/internal/Bezier_net.h"
@@ -189,6 +190,40 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
       add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
     }
   }
+  // Open sides (see Element::open_sides). A face's edges carry its boundary when every edge
+  // that bounds it became a curve element (or is a degenerate pole edge).
+  std::vector<int> edge_state(body.faces.size(), 0);  // 0 no edges, 1 all carried, 2 some not
+  for (std::size_t k = 0; k < body.edges.size(); ++k) {
+    const Edge& edge = body.edges[k];
+    bool carried = !edge.curve;
+    if (edge.curve) {
+      const double t0 = std::max(edge.t_min, edge.curve->domain_min());
+      const double t1 = std::min(edge.t_max, edge.curve->domain_max());
+      carried = t0 < t1;
+    }
+    for (const Edge_use& use : edge.uses) {
+      if (use.face < 0 || use.face >= static_cast<int>(edge_state.size())) continue;
+      int& st = edge_state[use.face];
+      st = !carried ? 2 : std::max(st, 1);
+    }
+  }
+  for (Element& e : m_elements) {
+    const Feature& f = e.feature;
+    if (e.kind == Element_kind::Point) continue;
+    if (e.kind == Element_kind::Curve) {
+      e.open_sides = f.is_closed(0) ? 0u : 3u;
+      continue;
+    }
+    const bool face = e.index < static_cast<int>(body.faces.size());
+    if (face && edge_state[e.index] == 1) continue;  // every boundary is a curve element
+    if (e.trimmed) {
+      e.open_sides = 0x1Fu;
+      continue;
+    }
+    // Collapsed edges stay open: an apex is a boundary point of the geometry.
+    for (int dir = 0; dir < 2; ++dir)
+      if (!f.is_closed(dir)) e.open_sides |= 3u << (2 * dir);
+  }
   if (m_pieces.empty())
     throw Invalid_input("body '" + body.name + "' has no point, face or curve to measure from");
   std::vector<int> ids(m_pieces.size());
@@ -277,6 +312,17 @@ struct Pair_entry {
 struct Known_solution {
   int ea, eb;
   Vec4 params;
+  double distance = HUGE_VAL;
+  double tried = HUGE_VAL;  // size of the last region tried around it (see try_certify)
+  bool certified = false;
+};
+
+// A box of parameters [A's..., B's...] of an element pair over which |f_A - f_B|^2 is proven
+// convex, with the lower bound on the distance over the box that convexity gives.
+struct Convex_region {
+  int ea = -1, eb = -1;
+  double lo[4] = {0, 0, 0, 0}, hi[4] = {0, 0, 0, 0};
+  double lower = 0.0;
 };
 
 struct Side_pools {
@@ -294,6 +340,8 @@ struct Distance_scratch {
   Side_pools side[2];
   std::vector<Pair_entry> heap;
   std::vector<Known_solution> solutions;
+  std::vector<Convex_region> regions;
+  std::vector<Hom, Eigen::aligned_allocator<Hom>> region_net;
 };
 
 }  // namespace internal
@@ -492,6 +540,13 @@ class Solver {
     return m_side[side].h->elements()[element].feature;
   }
   bool inside_known_solution(const Live_node& a, const Live_node& b) const;
+  // Local convexity certificates around Newton solutions (see certify_region).
+  void try_certify(const Live_node& a, const Live_node& b);
+  bool certify_region(internal::Known_solution& sol, const double* rho);
+  bool enclose_element(int side, int e, const double* lo, const double* hi, const Vec3& origin,
+                       internal::Derivative_enclosure& out);
+  double region_bound(const Live_node& a, const Live_node& b) const;
+  bool holds_no_minimum(const Live_node& a, const Live_node& b, int side);
   void classify_meeting();
   void fill(Distance_result& r) const;
 
@@ -530,6 +585,10 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff) {
   if (L >= cutoff) return L;
   L = std::max(L, (a.centre - b.centre).norm() - a.radius - b.radius);
   if (L >= cutoff || !a.is_net() || !b.is_net()) return L;
+  if (!m_scratch.regions.empty()) {
+    L = std::max(L, region_bound(a, b));
+    if (L >= cutoff) return L;
+  }
   const Vec3* ca = m_side[0].cart(a);
   const Vec3* cb = m_side[1].cart(b);
   if (m_have_axis) {
@@ -627,13 +686,227 @@ void Solver::polish(const Live_node& a, const Live_node& b) {
   evaluate_feature(fa, *m_side[0].X, r.params.data(), xa, 0);
   evaluate_feature(fb, *m_side[1].X, r.params.data() + a.dim, xb, 0);
   const double d = (xb.p - xa.p).norm();
-  if (r.converged) m_scratch.solutions.push_back({a.element, b.element, r.params});
+  if (r.converged) {
+    m_scratch.solutions.push_back({a.element, b.element, r.params});
+    m_scratch.solutions.back().distance = d;
+  }
   if (!std::isfinite(d)) return;
   double qa[2] = {0, 0}, qb[2] = {0, 0};
   for (int k = 0; k < a.dim; ++k) qa[k] = r.params[k];
   for (int k = 0; k < b.dim; ++k) qb[k] = r.params[a.dim + k];
   if (!m_side[0].h->on_body(a.element, qa) || !m_side[1].h->on_body(b.element, qb)) return;
   offer(d, xa.p, xb.p, a.element, qa, b.element, qb);
+}
+
+// Hull bounds approach a minimum only quadratically in the sub-patch size, so certifying a
+// smooth minimum to 1e-12 by subdivision alone takes sub-patches of 1e-6. Instead, around a
+// Newton solution x* of an element pair: if the Hessian of D = |f_A - f_B|^2, enclosed by
+// interval arithmetic on the hodographs of the sub-nets over a parameter box R about x*, is
+// positive definite throughout R, then D is convex on R and
+//   D(x) >= D(x*) + grad D(x*) . (x - x*)   for every x in R,
+// whose minimum over R is D(x*) up to the Newton residual (and exact at a minimum on a domain
+// edge, where the gradient points out of R). Every node pair inside R gets that bound.
+// Enclosures of element e of `side` over the parameter box [lo, hi], with points relative to
+// `origin` (a point near the box: interval arithmetic on the quotient rule loses |f| times the
+// weight derivative's width, so f must be small).
+bool Solver::enclose_element(int side, int e, const double* lo, const double* hi,
+                             const Vec3& origin, internal::Derivative_enclosure& out) {
+  const Distance_hierarchy& h = *m_side[side].h;
+  const int dim = feature(side, e).dimension();
+  const Mat3& R = m_side[side].X->rotation();
+  const Vec3& t = m_side[side].X->translation();
+  auto& net = m_scratch.region_net;
+  bool first = true;
+  for (const Distance_hierarchy::Piece& piece : h.pieces()) {
+    if (piece.element != e) continue;
+    double s0[2] = {0.0, 0.0}, s1[2] = {1.0, 1.0}, width[2] = {1.0, 1.0};
+    bool overlap = true;
+    for (int k = 0; k < dim && overlap; ++k) {
+      const double a = std::max(lo[k], piece.lo[k]), b = std::min(hi[k], piece.hi[k]);
+      const double span = piece.hi[k] - piece.lo[k];
+      overlap = a < b && span > 0.0;
+      s0[k] = (a - piece.lo[k]) / span;
+      s1[k] = (b - piece.lo[k]) / span;
+      width[k] = b - a;
+    }
+    if (!overlap) continue;
+    const int count = piece.nu * piece.nv;
+    net.resize(count);
+    const Eigen::Vector4d* src = h.poles() + piece.offset;
+    for (int k = 0; k < count; ++k) {
+      net[k].head<3>() = R * src[k].head<3>() + src[k][3] * (t - origin);
+      net[k][3] = src[k][3];
+    }
+    if (dim >= 1) internal::restrict_net(net.data(), piece.nu, piece.nv, s0[0], s1[0], s0[1], s1[1]);
+    internal::Derivative_enclosure enc;
+    if (!internal::enclose_piece(net.data(), piece.nu, piece.nv, dim, width, enc)) return false;
+    internal::hull_into(out, enc, first);
+    first = false;
+  }
+  return !first;
+}
+
+bool Solver::certify_region(internal::Known_solution& sol, const double* rho) {
+  using internal::Interval;
+  const Feature& fa = feature(0, sol.ea);
+  const Feature& fb = feature(1, sol.eb);
+  const int na = fa.dimension(), nb = fb.dimension(), n = na + nb;
+  if (n == 0) return false;
+  internal::Convex_region reg;
+  reg.ea = sol.ea;
+  reg.eb = sol.eb;
+  for (int k = 0; k < n; ++k) {
+    const Feature& f = k < na ? fa : fb;
+    const int i = k < na ? k : k - na;
+    reg.lo[k] = std::max(f.lower(i), sol.params[k] - rho[k]);
+    reg.hi[k] = std::min(f.upper(i), sol.params[k] + rho[k]);
+  }
+  Feature_point xa, xb;
+  evaluate_feature(fa, *m_side[0].X, sol.params.data(), xa, 1);
+  evaluate_feature(fb, *m_side[1].X, sol.params.data() + na, xb, 1);
+  internal::Derivative_enclosure A, B;
+  if (!enclose_element(0, sol.ea, reg.lo, reg.hi, xa.p, A) ||
+      !enclose_element(1, sol.eb, reg.lo + na, reg.hi + na, xb.p, B))
+    return false;
+  // The Hessian of D over R as intervals: A's rows, then B's.
+  Interval H[4][4];
+  internal::Interval3 r;
+  for (int c = 0; c < 3; ++c) r[c] = Interval{xa.p[c] - xb.p[c], xa.p[c] - xb.p[c]} + (A.p[c] - B.p[c]);
+  for (int k = 0; k < na; ++k)
+    for (int l = 0; l < na; ++l)
+      H[k][l] = 2.0 * ((k == l ? self_dot(A.d[k]) : dot(A.d[k], A.d[l])) + dot(r, A.dd[k][l]));
+  for (int k = 0; k < na; ++k)
+    for (int l = 0; l < nb; ++l) H[k][na + l] = H[na + l][k] = -2.0 * dot(A.d[k], B.d[l]);
+  for (int k = 0; k < nb; ++k)
+    for (int l = 0; l < nb; ++l)
+      H[na + k][na + l] =
+          2.0 * ((k == l ? self_dot(B.d[k]) : dot(B.d[k], B.d[l])) - dot(r, B.dd[k][l]));
+  // Positive definite on all of R: after Jacobi scaling, the smallest eigenvalue of the centre
+  // matrix exceeds the spectral radius of the (non-negative, symmetric) radius matrix, which
+  // bounds the spectral norm of every matrix the intervals hold (Rohn's sufficient condition),
+  // by a margin far above rounding.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+  Small C(n, n), Rad(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      C(i, j) = 0.5 * (H[i][j].lo + H[i][j].hi);
+      Rad(i, j) = 0.5 * (H[i][j].hi - H[i][j].lo);
+    }
+  double S[4];
+  for (int i = 0; i < n; ++i) {
+    if (!(C(i, i) > 0.0)) return false;
+    S[i] = 1.0 / std::sqrt(C(i, i));
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      C(i, j) *= S[i] * S[j];
+      Rad(i, j) *= S[i] * S[j];
+    }
+  if (!C.allFinite() || !Rad.allFinite()) return false;
+  const Eigen::SelfAdjointEigenSolver<Small> eig(C, Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Small> eig_rad(Rad, Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues().minCoeff() - eig_rad.eigenvalues().cwiseAbs().maxCoeff() > 1e-6))
+    return false;
+  const Vec3 d = xa.p - xb.p;
+  double D = d.squaredNorm();
+  for (int k = 0; k < n; ++k) {
+    const double g = k < na ? 2.0 * d.dot(xa.d[k]) : -2.0 * d.dot(xb.d[k - na]);
+    D += std::min(g * (reg.lo[k] - sol.params[k]), g * (reg.hi[k] - sol.params[k]));
+  }
+  // Rounding in D(x*) is a few ulps of the coordinates: m_resolution covers it.
+  reg.lower = std::sqrt(std::max(0.0, D)) - m_resolution;
+  if (!std::isfinite(reg.lower)) return false;
+  m_scratch.regions.push_back(reg);
+  return true;
+}
+
+// Called for a popped pair of sub-patches: certifies a region about each uncertified solution
+// inside the pair that could be the global minimum, with half-widths the pair's parameter
+// widths, again each time the pairs around it have halved.
+void Solver::try_certify(const Live_node& a, const Live_node& b) {
+  for (internal::Known_solution& s : m_scratch.solutions) {
+    if (s.certified || s.ea != a.element || s.eb != b.element) continue;
+    if (s.distance > m_best.distance + 1e-6 * (1.0 + m_best.distance)) continue;
+    bool inside = true;
+    for (int k = 0; k < a.dim; ++k) inside = inside && s.params[k] >= a.lo[k] && s.params[k] <= a.hi[k];
+    for (int k = 0; k < b.dim; ++k)
+      inside = inside && s.params[a.dim + k] >= b.lo[k] && s.params[a.dim + k] <= b.hi[k];
+    if (!inside) continue;
+    double rho[4] = {0, 0, 0, 0};
+    double size = 0.0;  // largest half-width relative to its element's domain
+    for (int k = 0; k < a.dim + b.dim; ++k) {
+      const Live_node& n = k < a.dim ? a : b;
+      const int i = k < a.dim ? k : k - a.dim;
+      const Feature& f = feature(k < a.dim ? 0 : 1, n.element);
+      rho[k] = n.hi[i] - n.lo[i];
+      size = std::max(size, rho[k] / std::max(f.upper(i) - f.lower(i), 1e-300));
+    }
+    if (!(size <= 0.5 * s.tried)) continue;
+    s.tried = size;
+    s.certified = certify_region(s, rho);
+  }
+}
+
+double Solver::region_bound(const Live_node& a, const Live_node& b) const {
+  double L = 0.0;
+  for (const internal::Convex_region& reg : m_scratch.regions) {
+    if (reg.ea != a.element || reg.eb != b.element) continue;
+    bool inside = true;
+    for (int k = 0; k < a.dim; ++k) inside = inside && a.lo[k] >= reg.lo[k] && a.hi[k] <= reg.hi[k];
+    for (int k = 0; k < b.dim; ++k)
+      inside = inside && b.lo[k] >= reg.lo[a.dim + k] && b.hi[k] <= reg.hi[a.dim + k];
+    if (inside) L = std::max(L, reg.lower);
+  }
+  return L;
+}
+
+// A pair of sub-patches holds no minimiser of the distance between the bodies when, on one
+// side, the gradient of D = |f_A - f_B|^2 along that side's parameters is nowhere zero over the
+// pair (its enclosure excludes zero in some component) and the sub-patch touches no open side
+// of its element: a minimiser with that side's point inside the element's domain would make
+// the gradient vanish, and one on a carried boundary (a trim edge, a face edge) lies on a curve
+// element, whose own pairs hold it. Such a pair is dropped without a bound: the minimum lies in
+// the pairs that remain. This is what certifies minima on trim boundaries, where the patch
+// beyond the trim comes closer and no hull bound of the straddling sub-patches can rise above
+// the minimum.
+bool Solver::holds_no_minimum(const Live_node& a, const Live_node& b, int side) {
+  const Live_node& n = side == 0 ? a : b;
+  const Live_node& o = side == 0 ? b : a;
+  if (!n.is_net() || !o.is_net() || n.dim == 0) return false;
+  const Distance_hierarchy::Element& el = m_side[side].h->elements()[n.element];
+  if (el.open_sides & 0x10u) return false;
+  const Feature& f = el.feature;
+  unsigned touch = 0;
+  for (int k = 0; k < n.dim; ++k) {
+    if (n.lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
+    if (n.hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
+  }
+  if (touch & el.open_sides) return false;
+  auto& net = m_scratch.region_net;
+  const int count = n.count();
+  net.resize(count);
+  const Hom* src = m_side[side].pools->hom.data() + n.offset;
+  for (int k = 0; k < count; ++k) {
+    net[k] = src[k];
+    net[k].head<3>() -= src[k][3] * n.centre;
+  }
+  const double width[2] = {n.hi[0] - n.lo[0], n.dim > 1 ? n.hi[1] - n.lo[1] : 1.0};
+  internal::Derivative_enclosure e;
+  if (!internal::enclose_piece(net.data(), n.nu, n.nv, n.dim, width, e, 1)) return false;
+  internal::Interval3 r;  // f_side - f_other over the pair, from the world boxes
+  double rmax = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    r[c] = internal::Interval{n.bmin[c] - o.bmax[c], n.bmax[c] - o.bmin[c]};
+    rmax = std::max({rmax, std::abs(r[c].lo), std::abs(r[c].hi)});
+  }
+  for (int k = 0; k < n.dim; ++k) {
+    const internal::Interval g = dot(r, e.d[k]);
+    double dmax = 0.0;
+    for (int c = 0; c < 3; ++c) dmax = std::max({dmax, std::abs(e.d[k][c].lo), std::abs(e.d[k][c].hi)});
+    const double margin = 1e-12 * rmax * dmax;  // far above the rounding of the enclosure
+    if (g.lo > margin || g.hi < -margin) return true;
+  }
+  return false;
 }
 
 // Gauss-Newton on f(x_A) = h(x_B) from the centres of the two nodes: a common point ends the
@@ -765,6 +1038,7 @@ Distance_result Solver::run() {
   for (auto& s : m_scratch.side) s.clear();
   m_scratch.heap.clear();
   m_scratch.solutions.clear();
+  m_scratch.regions.clear();
 
   // Floating-point resolution of the scene: coordinates are good to a few ulps of their size.
   const Bbox_3 wa = transformed(m_side[0].h->box(), *m_side[0].X);
@@ -808,6 +1082,7 @@ Distance_result Solver::run() {
       const double before = m_best.distance;
       corner_candidates(a, b);
       if (m_best.distance < before) polish(a, b);
+      if (m_req.newton_polish && !m_scratch.solutions.empty()) try_certify(a, b);
       if (top.lower <= m_resolution && m_best.distance > m_resolution &&
           m_intersection_attempts < 64 && (a.depth + b.depth) % 3 == 0) {
         if (try_intersection(a, b)) break;
@@ -837,6 +1112,9 @@ Distance_result Solver::run() {
           top.lower,
           lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], cutoff));
       if (L < cutoff) {
+        const Live_node& na = m_side[0].pools->nodes[ia];
+        const Live_node& nb = m_side[1].pools->nodes[ib];
+        if (holds_no_minimum(na, nb, 0) || holds_no_minimum(na, nb, 1)) continue;
         heap.push_back({L, ia, ib});
         std::push_heap(heap.begin(), heap.end(), Heap_order());
       } else {

@@ -66,6 +66,11 @@ class Distance_hierarchy {
     // the trim's parameter box [trim_lo, trim_hi] (with the On_boundary band) holds them all.
     bool trimmed = false;
     double trim_lo[2] = {0, 0}, trim_hi[2] = {0, 0};
+    // Where a minimum of the element may lie on its domain boundary with no other element
+    // carrying it: bit 0 the lower and bit 1 the upper end of the first parameter, bits 2 and
+    // 3 of the second (clear for a wrapping direction, or a face whose edges are all curve
+    // elements here); bit 4: a trim boundary no curve element carries.
+    unsigned open_sides = 0;
   };
   struct Piece {  // one Bezier piece, body frame
     int element = -1;

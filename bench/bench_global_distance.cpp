@@ -176,6 +176,7 @@ struct Row {
   double tolerance = 0.0;  // 0 for peers
   std::vector<double> times, errors;
   int failures = 0;
+  std::vector<double> nodes;  // ours: sub-patch nodes made per query (repeatable work measure)
 };
 
 }  // namespace
@@ -277,7 +278,7 @@ int main(int argc, char** argv) {
   auto row = [&](const std::string& group, const std::string& solver, double tol) -> Row& {
     for (Row& r : rows)
       if (r.group == group && r.solver == solver && r.tolerance == tol) return r;
-    rows.push_back({group, solver, tol, {}, {}, 0});
+    rows.push_back({group, solver, tol, {}, {}, 0, {}});
     return rows.back();
   };
   std::vector<std::string> wrong;
@@ -307,6 +308,7 @@ int main(int argc, char** argv) {
       Row& w = row(c.group, "extremal_distance", tol);
       w.times.push_back(t);
       w.errors.push_back(std::abs(d - c.truth));
+      w.nodes.push_back(static_cast<double>(r.nodes_created));
       if (!r.is_certified()) ++w.failures;
     }
     if (!multi) {
@@ -378,8 +380,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "done %s\n", c.name.c_str());
   }
 
-  std::printf("\n| pair set | solver | tolerance | median time per query (us) | max error | median error | not certified / failed | time vs peer |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("\n| pair set | solver | tolerance | median time per query (us) | max error | median error | not certified / failed | time vs peer | median nodes |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
   std::string last;
   for (const Row& r : rows) {
     // Ratio against the peer of the set: GeomAPI for single patches, BRepExtrema for parts.
@@ -396,9 +398,11 @@ int main(int argc, char** argv) {
     else
       std::snprintf(tol, sizeof tol, "-");
     const double maxerr = r.errors.empty() ? NAN : *std::max_element(r.errors.begin(), r.errors.end());
-    std::printf("| %s | %s | %s | %.1f | %.1e | %.1e | %d of %zu | %.3gx |\n",
+    char nodes[32] = "-";
+    if (!r.nodes.empty()) std::snprintf(nodes, sizeof nodes, "%.0f", median(r.nodes));
+    std::printf("| %s | %s | %s | %.1f | %.1e | %.1e | %d of %zu | %.3gx | %s |\n",
                 r.group == last ? "" : r.group.c_str(), r.solver.c_str(), tol, t, maxerr,
-                median(r.errors), r.failures, r.times.size(), t / peer);
+                median(r.errors), r.failures, r.times.size(), t / peer, nodes);
     last = r.group;
   }
   std::printf("\n%zu wrong or missing peer answers (error > 1e-6 (1 + d)):\n", wrong.size());
