@@ -868,13 +868,15 @@ double Solver::region_bound(const Live_node& a, const Live_node& b) const {
 // element, whose own pairs hold it. Such a pair is dropped without a bound: the minimum lies in
 // the pairs that remain. This is what certifies minima on trim boundaries, where the patch
 // beyond the trim comes closer and no hull bound of the straddling sub-patches can rise above
-// the minimum.
+// the minimum. Applied to trimmed faces only (see the check below).
 bool Solver::holds_no_minimum(const Live_node& a, const Live_node& b, int side) {
   const Live_node& n = side == 0 ? a : b;
   const Live_node& o = side == 0 ? b : a;
   if (!n.is_net() || !o.is_net() || n.dim == 0) return false;
   const Distance_hierarchy::Element& el = m_side[side].h->elements()[n.element];
-  if (el.open_sides & 0x10u) return false;
+  // Only trimmed faces need it: elsewhere the hull bounds rise above the minimum away from the
+  // stationary points, and near them the gradient vanishes, so the enclosure would not pay.
+  if (!el.trimmed || (el.open_sides & 0x10u)) return false;
   const Feature& f = el.feature;
   unsigned touch = 0;
   for (int k = 0; k < n.dim; ++k) {
