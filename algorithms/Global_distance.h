@@ -21,6 +21,12 @@
 //     hull of its Cartesian control points, so both are certified;
 //   - upper bounds: on-surface corner points of the sub-patches, then a Newton polish of the pair
 //     (solve_pair_at_rest) on the whole face or curve whenever a pair beats the best so far;
+//   - near a Newton solution that may be the minimum: a parameter box on which |f_A - f_B|^2 is
+//     proven convex (interval Hessian from the sub-nets' hodographs) bounds every pair inside it
+//     by the solution's distance up to its residual, so tight tolerances cost no more nodes;
+//   - trimmed faces whose edges are curve elements: a pair on which the gradient along the
+//     face's parameters provably does not vanish holds no minimum (it would lie on an edge) and
+//     is dropped, which certifies minima on trim boundaries;
 //   - the pair with the smallest lower bound is split (the larger node, in two, by de Casteljau
 //     in homogeneous coordinates), pairs whose bound cannot beat the best witness are pruned.
 // Intersections: when the bounds of a pair reach zero, a Gauss-Newton solve of f = h looks for a
