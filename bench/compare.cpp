@@ -1,0 +1,764 @@
+// Run time against error, side by side with OpenCASCADE and FCL (issue 9): one program, one run.
+//
+// Scenarios (each a motion over a few seconds, the same frames for every method):
+//   (a) the seed's two moving ellipsoids (bench/experiments/Ellipsoid_experiment's set-up);
+//   (b) a non-convex part of 3 x 3 bicubic faces (an egg crate) under a moving ellipsoid;
+//   (c) two real STEP parts from ../shared/data in relative motion (io::load_bodies).
+// Methods, each timed per frame (median) and its error (maximum and median) measured against
+// the certified reference at the same frames:
+//   - our tracker: Extremal_tracker on single patches, Scene_stepper (Body_pair_tracker) on
+//     bodies, at several rates and gains, started on the certified pair;
+//   - our certified global solver (extremal_distance) at several tolerances;
+//   - OpenCASCADE GeomAPI_ExtremaSurfaceSurface (single patches) and BRepExtrema_DistShapeShape,
+//     on the same geometry (our NURBS converted by support/Occt_bridge; the STEP files read by
+//     OpenCASCADE itself in (c));
+//   - FCL distance (BVHModel<OBBRSS>) on tessellations of increasing resolution (our patches on
+//     a uniform parameter grid; OpenCASCADE's BRepMesh of the STEP shapes in (c)).
+// References: the support-function certificate for (a) (gap ~1e-15), our certified global
+// solver at 1e-12 for (b) and (c) (BRepExtrema, an independent code, is compared with it).
+// Prints one Markdown table per scenario with the speed-up over each peer, the targets, and
+// writes bench/results/compare_<scenario>.svg (log-log time against error).
+//
+// Usage: compare [--quick] [--out DIR] [--data DIR]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+// CGAL (through our headers) before OpenCASCADE: its Handle macro breaks CGAL's headers.
+#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/Ellipsoid_distance.h"
+#include "algorithms/Extremal_tracker.h"
+#include "algorithms/Global_distance.h"
+#include "algorithms/Scene_stepper.h"
+#include "experiments/Ellipsoid_experiment.h"
+#include "io/Model_reader.h"
+#include "kernel/Motion.h"
+#include "kernel/Shapes.h"
+#include "support/Loglog_plot.h"
+#include "support/Occt_bridge.h"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/narrowphase/distance.h>
+
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Tool.hxx>
+#include <GeomAPI_ExtremaSurfaceSurface.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <gp_Trsf.hxx>
+
+using namespace extremal;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
+double median(std::vector<double> v) {
+  if (v.empty()) return k_nan;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+double maximum(const std::vector<double>& v) {
+  return v.empty() ? k_nan : *std::max_element(v.begin(), v.end());
+}
+double micros_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+// ---- scenarios ------------------------------------------------------------------------------
+
+struct Mesh {
+  std::vector<fcl::Vector3d> vertices;
+  std::vector<fcl::Triangle> triangles;
+};
+
+struct Scenario {
+  std::string key, title;
+  Body a, b;
+  Motion motion_a = Motion::still(Rigid_pose_3()), motion_b = Motion::still(Rigid_pose_3());
+  double duration = 3.0;
+  double reference_dt = 1e-3;  // reference grid; errors are measured on it
+  std::string reference_name;
+  std::function<double(double)> reference;  // certified distance at t (on the grid)
+  bool single_patch = false;
+  // OpenCASCADE shapes in the frame the motions place (B-rep files: the file frame).
+  TopoDS_Shape occt_a, occt_b;
+  // Tessellations in the same frame, coarse to fine, with a label.
+  std::vector<std::pair<std::string, std::pair<Mesh, Mesh>>> meshes;
+
+  Rigid_pose_3 pose(int side, double t) const {
+    return side == 0 ? motion_a.pose_at(t) * a.placement : motion_b.pose_at(t) * b.placement;
+  }
+};
+
+// World pose and twist of a body frame (the motion's twist moved to the body origin).
+void body_state(const Motion& m, const Body& body, double t, Rigid_pose_3& X, Twist_3& V) {
+  const Rigid_pose_3 entry = m.pose_at(t);
+  const Twist_3 v = m.twist_at(t);
+  X = entry * body.placement;
+  V.angular = v.angular;
+  V.linear = v.linear + v.angular.cross(X.translation() - entry.translation());
+}
+
+// Uniform n x n parameter grid per face, two triangles per cell, body frame mapped by `X`.
+Mesh tessellate(const Body& body, int n, const Rigid_pose_3& X = Rigid_pose_3()) {
+  Mesh m;
+  for (const Face& f : body.faces) {
+    const Nurbs_surface_3& s = f.surface;
+    const int base = static_cast<int>(m.vertices.size());
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        const double u = s.u_min() + (s.u_max() - s.u_min()) * i / n;
+        const double v = s.v_min() + (s.v_max() - s.v_min()) * j / n;
+        const Vec3 p = X.apply_point(to_vec3(s.point(u, v)));
+        m.vertices.emplace_back(p.x(), p.y(), p.z());
+      }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const int a = base + i * (n + 1) + j, b = a + n + 1;
+        m.triangles.emplace_back(a, b, b + 1);
+        m.triangles.emplace_back(a, b + 1, a + 1);
+      }
+  }
+  return m;
+}
+
+// OpenCASCADE's triangulation of a shape (BRepMesh at `deflection`), in the shape's frame.
+Mesh occt_mesh(const TopoDS_Shape& shape, double deflection) {
+  BRepMesh_IncrementalMesh mesher(shape, deflection, false, 0.2, false);
+  Mesh m;
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(ex.Current());
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+    if (tri.IsNull()) continue;
+    const gp_Trsf T = loc.Transformation();
+    const int base = static_cast<int>(m.vertices.size());
+    for (int i = 1; i <= tri->NbNodes(); ++i) {
+      const gp_Pnt p = tri->Node(i).Transformed(T);
+      m.vertices.emplace_back(p.X(), p.Y(), p.Z());
+    }
+    for (int i = 1; i <= tri->NbTriangles(); ++i) {
+      int n1, n2, n3;
+      tri->Triangle(i).Get(n1, n2, n3);
+      m.triangles.emplace_back(base + n1 - 1, base + n2 - 1, base + n3 - 1);
+    }
+  }
+  return m;
+}
+
+TopoDS_Shape moved(const TopoDS_Shape& s, const Rigid_pose_3& X) {
+  const Mat3& R = X.rotation();
+  const Vec3& p = X.translation();
+  gp_Trsf T;
+  T.SetValues(R(0, 0), R(0, 1), R(0, 2), p.x(), R(1, 0), R(1, 1), R(1, 2), p.y(), R(2, 0),
+              R(2, 1), R(2, 2), p.z());
+  return BRepBuilderAPI_Transform(s, T, true).Shape();
+}
+
+fcl::Transform3d fcl_pose(const Rigid_pose_3& X) {
+  fcl::Transform3d T = fcl::Transform3d::Identity();
+  T.linear() = X.rotation();
+  T.translation() = X.translation();
+  return T;
+}
+
+// ---- measurements ---------------------------------------------------------------------------
+
+struct Row {
+  std::string family;   // plot series
+  std::string method, setting;
+  std::vector<double> times_us, errors;
+  int failures = 0;
+  bool ours = false;
+  double x_value = 0.0;  // position along the family (for the legend order)
+};
+
+// The reference on its grid, computed once per grid point.
+class Reference_cache {
+ public:
+  explicit Reference_cache(const Scenario& s) : m_s(s) {}
+  double at_index(long k) {
+    auto it = m_values.find(k);
+    if (it != m_values.end()) return it->second;
+    const double v = m_s.reference(k * m_s.reference_dt);
+    m_values.emplace(k, v);
+    return v;
+  }
+  // Grid index of t, or -1 if t is not on the grid.
+  long index_of(double t) const {
+    const double x = t / m_s.reference_dt;
+    const long k = std::lround(x);
+    return std::abs(x - k) < 1e-6 ? k : -1;
+  }
+  long count() const { return std::lround(m_s.duration / m_s.reference_dt); }
+
+ private:
+  const Scenario& m_s;
+  std::map<long, double> m_values;
+};
+
+// Frames of the grid spread evenly over the motion.
+std::vector<long> sample_indices(const Reference_cache& ref, int n) {
+  std::vector<long> k;
+  const long total = ref.count();
+  for (int i = 0; i < n; ++i) k.push_back(total * i / std::max(1, n - 1));
+  k.erase(std::unique(k.begin(), k.end()), k.end());
+  return k;
+}
+
+struct Tracker_config {
+  double rate = 1000.0;
+  double kdt = 1.0;  // K dt
+  int corrections = 0;
+  int audit_every = 0;
+};
+
+// Our tracker over the whole motion at `rate`, started on the certified pair at t = 0.
+Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c) {
+  Row row;
+  row.ours = true;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%g Hz, K dt = %g%s", c.rate, c.kdt,
+                c.corrections ? ", corrections" : "");
+  row.setting = buf;
+  if (c.audit_every) row.setting += ", audit every " + std::to_string(c.audit_every);
+  std::snprintf(buf, sizeof buf, "tracker K dt = %g%s%s", c.kdt, c.corrections ? " + corr." : "",
+                c.audit_every ? " + audits" : "");
+  row.family = buf;
+  row.x_value = c.rate;
+  const double dt = 1.0 / c.rate;
+  const long steps = std::lround(s.duration * c.rate);
+  // Poses and twists before the clock starts: the motion is the scene's, not ours to time.
+  struct State {
+    Rigid_pose_3 XA, XB;
+    Twist_3 VA, VB;
+  };
+  std::vector<State> states(steps + 1);
+  for (long i = 0; i <= steps; ++i)
+    body_state(s.motion_a, s.a, i * dt, states[i].XA, states[i].VA),
+        body_state(s.motion_b, s.b, i * dt, states[i].XB, states[i].VB);
+  std::vector<double> distance(steps + 1, k_nan);
+  row.times_us.reserve(steps + 1);
+  Tracker_options options;
+  options.gain.setConstant(c.kdt / dt);
+  options.corrections = c.corrections;
+  if (s.single_patch) {
+    row.method = "Extremal_tracker";
+    Distance_request request;
+    request.absolute_tolerance = request.relative_tolerance = 1e-12;
+    const Distance_result start =
+        extremal_distance(s.a, states[0].XA, s.b, states[0].XB, request);
+    const Tracker_seed seed = tracker_seed(s.a, s.b, start);
+    Extremal_tracker tracker(seed.feature_a, seed.feature_b, seed.params, options);
+    for (long i = 0; i <= steps; ++i) {
+      const State& x = states[i];
+      const auto t0 = Clock::now();
+      const Track_result& r = tracker.step(i * dt, x.XA, x.VA, x.XB, x.VB, dt);
+      row.times_us.push_back(micros_since(t0));
+      distance[i] = r.distance;
+    }
+  } else {
+    row.method = "Scene_stepper";
+    Body_pair_options options_b;
+    options_b.tracker = options;
+    options_b.audit_every = c.audit_every;
+    Scene_stepper stepper({{&s.a, &s.motion_a}, {&s.b, &s.motion_b}}, {{0, 1}}, options_b);
+    for (long i = 0; i <= steps; ++i) {
+      const auto t0 = Clock::now();
+      const std::vector<Pair_report>& r = stepper.step(i * dt, dt);
+      row.times_us.push_back(micros_since(t0));
+      distance[i] = r[0].distance;
+    }
+    // The first step seeds the trackers by the global solver: a start-up cost, reported apart.
+    std::snprintf(buf, sizeof buf, " (start %.0f us)", row.times_us.front());
+    row.setting += buf;
+    row.times_us.erase(row.times_us.begin());
+  }
+  for (long i = 0; i <= steps; ++i) {
+    const long k = ref.index_of(i * dt);
+    if (k < 0 || k > ref.count()) continue;
+    if (!std::isfinite(distance[i])) {
+      ++row.failures;
+      continue;
+    }
+    row.errors.push_back(std::abs(distance[i] - ref.at_index(k)));
+  }
+  return row;
+}
+
+Row run_global(const Scenario& s, Reference_cache& ref, const std::vector<long>& frames,
+               double tolerance, const Distance_hierarchy& ha, const Distance_hierarchy& hb,
+               Distance_workspace& ws) {
+  Row row;
+  row.ours = true;
+  row.family = "global solver (certified)";
+  row.method = "extremal_distance";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "tolerance %.0e", tolerance);
+  row.setting = buf;
+  row.x_value = -std::log10(tolerance);
+  Distance_request request;
+  request.absolute_tolerance = request.relative_tolerance = tolerance;
+  for (long k : frames) {
+    const double t = k * s.reference_dt;
+    const Rigid_pose_3 XA = s.pose(0, t), XB = s.pose(1, t);
+    const auto t0 = Clock::now();
+    const Distance_result r = extremal_distance(ha, XA, hb, XB, request, ws);
+    row.times_us.push_back(micros_since(t0));
+    if (!r.is_certified()) ++row.failures;
+    row.errors.push_back(std::abs(r.distance - ref.at_index(k)));
+  }
+  return row;
+}
+
+Row run_geomapi(const Scenario& s, Reference_cache& ref, const std::vector<long>& frames) {
+  Row row;
+  row.family = "OCCT GeomAPI_ExtremaSurfaceSurface";
+  row.method = "GeomAPI_ExtremaSurfaceSurface";
+  row.setting = "-";
+  for (long k : frames) {
+    const double t = k * s.reference_dt;
+    const Handle(Geom_BSplineSurface) fa = bench::to_occt(s.a.faces[0].surface, s.pose(0, t));
+    const Handle(Geom_BSplineSurface) fb = bench::to_occt(s.b.faces[0].surface, s.pose(1, t));
+    double d = k_nan;
+    const auto t0 = Clock::now();
+    try {
+      GeomAPI_ExtremaSurfaceSurface ext(fa, fb);
+      if (ext.NbExtrema() > 0) d = ext.LowerDistance();
+    } catch (const Standard_Failure&) {
+    }
+    row.times_us.push_back(micros_since(t0));
+    if (!std::isfinite(d))
+      ++row.failures;
+    else
+      row.errors.push_back(std::abs(d - ref.at_index(k)));
+  }
+  return row;
+}
+
+Row run_brep(const Scenario& s, Reference_cache& ref, const std::vector<long>& frames) {
+  Row row;
+  row.family = "OCCT BRepExtrema_DistShapeShape";
+  row.method = "BRepExtrema_DistShapeShape";
+  row.setting = "deflection 1e-7";
+  for (long k : frames) {
+    const double t = k * s.reference_dt;
+    const TopoDS_Shape sa = moved(s.occt_a, s.motion_a.pose_at(t));
+    const TopoDS_Shape sb = moved(s.occt_b, s.motion_b.pose_at(t));
+    double d = k_nan;
+    const auto t0 = Clock::now();
+    try {
+      BRepExtrema_DistShapeShape ext(sa, sb, 1e-7);
+      if (ext.IsDone()) d = ext.Value();
+    } catch (const Standard_Failure&) {
+    }
+    row.times_us.push_back(micros_since(t0));
+    if (!std::isfinite(d))
+      ++row.failures;
+    else
+      row.errors.push_back(std::abs(d - ref.at_index(k)));
+  }
+  return row;
+}
+
+Row run_fcl(const Scenario& s, Reference_cache& ref, const std::vector<long>& frames,
+            const std::string& label, const Mesh& ma, const Mesh& mb) {
+  Row row;
+  row.family = "FCL distance, OBBRSS";
+  row.method = "FCL distance (OBBRSS)";
+  const auto t0 = Clock::now();
+  auto build = [](const Mesh& m) {
+    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    model->beginModel(static_cast<int>(m.triangles.size()), static_cast<int>(m.vertices.size()));
+    model->addSubModel(m.vertices, m.triangles);
+    model->endModel();
+    return model;
+  };
+  const auto A = build(ma), B = build(mb);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%s: %zu + %zu triangles (build %.2f s)", label.c_str(),
+                ma.triangles.size(), mb.triangles.size(), micros_since(t0) * 1e-6);
+  row.setting = buf;
+  row.x_value = static_cast<double>(ma.triangles.size() + mb.triangles.size());
+  fcl::DistanceRequestd request;
+  for (long k : frames) {
+    const double t = k * s.reference_dt;
+    const fcl::Transform3d TA = fcl_pose(s.motion_a.pose_at(t)), TB = fcl_pose(s.motion_b.pose_at(t));
+    fcl::DistanceResultd result;
+    const auto t1 = Clock::now();
+    fcl::distance(A.get(), TA, B.get(), TB, request, result);
+    row.times_us.push_back(micros_since(t1));
+    if (!std::isfinite(result.min_distance))
+      ++row.failures;
+    else
+      row.errors.push_back(std::abs(result.min_distance - ref.at_index(k)));
+  }
+  return row;
+}
+
+// ---- reporting -----------------------------------------------------------------------------
+
+const Row* find_peer(const std::vector<Row>& rows, const std::string& method) {
+  for (const Row& r : rows)
+    if (r.method == method) return &r;
+  return nullptr;
+}
+// The FCL row with the smallest maximum error (FCL's best accuracy).
+const Row* best_fcl(const std::vector<Row>& rows) {
+  const Row* best = nullptr;
+  for (const Row& r : rows)
+    if (r.method.rfind("FCL", 0) == 0 && (!best || maximum(r.errors) < maximum(best->errors)))
+      best = &r;
+  return best;
+}
+
+std::string ratio(const Row* peer, const Row& r) {
+  if (!peer || peer == &r) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", median(peer->times_us) / median(r.times_us));
+  return buf;
+}
+
+// The fastest of our rows whose maximum error is at most `error` (and that never failed).
+const Row* fastest_ours_within(const std::vector<Row>& rows, double error) {
+  const Row* best = nullptr;
+  for (const Row& r : rows)
+    if (r.ours && r.failures == 0 && !r.errors.empty() && maximum(r.errors) <= error &&
+        (!best || median(r.times_us) < median(best->times_us)))
+      best = &r;
+  return best;
+}
+
+void report(const Scenario& s, const std::vector<Row>& rows, const std::string& out_dir) {
+  const Row* geomapi = find_peer(rows, "GeomAPI_ExtremaSurfaceSurface");
+  const Row* brep = find_peer(rows, "BRepExtrema_DistShapeShape");
+  const Row* fcl = best_fcl(rows);
+  std::printf("\n### (%s) %s\n\nReference: %s. Speed-up = peer's median time / this row's.\n\n",
+              s.key.c_str(), s.title.c_str(), s.reference_name.c_str());
+  std::printf("| method | setting | frames | median time per frame (us) | max error | median error | "
+              "failed | speed-up vs GeomAPI | vs BRepExtrema | vs FCL at its best error |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows)
+    std::printf("| %s | %s | %zu | %.3g | %.1e | %.1e | %d | %s | %s | %s |\n", r.method.c_str(),
+                r.setting.c_str(), r.times_us.size(), median(r.times_us), maximum(r.errors),
+                median(r.errors), r.failures, ratio(geomapi, r).c_str(), ratio(brep, r).c_str(),
+                ratio(fcl, r).c_str());
+  std::printf("\nTargets:\n");
+  if (geomapi) {
+    const double e = maximum(geomapi->errors);
+    const Row* ours = fastest_ours_within(rows, e);
+    if (ours)
+      std::printf("- GeomAPI (max error %.1e, %.3g us): fastest of ours at equal or smaller error is "
+                  "%s, %s: %.3g us, %.3gx faster (target 1000x): %s\n",
+                  e, median(geomapi->times_us), ours->method.c_str(), ours->setting.c_str(),
+                  median(ours->times_us), median(geomapi->times_us) / median(ours->times_us),
+                  median(geomapi->times_us) / median(ours->times_us) >= 1000 ? "met" : "NOT met");
+    else
+      std::printf("- GeomAPI (max error %.1e): none of ours reaches that error\n", e);
+  }
+  if (fcl) {
+    const double e = maximum(fcl->errors);
+    const Row* ours = fastest_ours_within(rows, e);
+    if (ours)
+      std::printf("- FCL at its best error (%s, max error %.1e, %.3g us): fastest of ours at equal or "
+                  "smaller error is %s, %s: %.3g us, %.3gx faster (target 10000x): %s\n",
+                  fcl->setting.c_str(), e, median(fcl->times_us), ours->method.c_str(),
+                  ours->setting.c_str(), median(ours->times_us),
+                  median(fcl->times_us) / median(ours->times_us),
+                  median(fcl->times_us) / median(ours->times_us) >= 10000 ? "met" : "NOT met");
+    else
+      std::printf("- FCL (max error %.1e): none of ours reaches that error\n", e);
+  }
+  if (brep) {
+    // BRepExtrema against the reference: an independent check of (b) and (c)'s references.
+    std::printf("- BRepExtrema against the reference: max difference %.1e over %zu frames\n",
+                maximum(brep->errors), brep->errors.size());
+  }
+  std::fflush(stdout);
+
+  bench::Loglog_plot plot;
+  plot.title = "(" + s.key + ") " + s.title + ": time per frame against maximum error";
+  plot.x_label = "median time per frame [us]";
+  plot.y_label = "maximum distance error (errors <= 1e-16 drawn at 1e-16)";
+  std::map<std::string, std::size_t> index;
+  for (const Row& r : rows) {
+    auto it = index.find(r.family);
+    if (it == index.end()) {
+      it = index.emplace(r.family, plot.series.size()).first;
+      plot.series.push_back({r.family, {}, {}, true});
+    }
+    plot.series[it->second].x.push_back(median(r.times_us));
+    plot.series[it->second].y.push_back(maximum(r.errors));
+  }
+  const std::string path = out_dir + "/compare_" + s.key + ".svg";
+  plot.write(path);
+  std::printf("- plot: %s\n", path.c_str());
+}
+
+// ---- the scenarios --------------------------------------------------------------------------
+
+// A non-convex part: 3 x 3 bicubic faces over [-1.5, 1.5]^2 sampling an egg crate
+// z = 0.25 sin(2x) cos(2y) at their control points (shared boundary poles: C0 joins).
+Body egg_crate() {
+  Body b;
+  b.name = "egg crate";
+  const int n = 6;  // poles per face and direction
+  auto height = [](double x, double y) { return 0.25 * std::sin(2.0 * x) * std::cos(2.0 * y); };
+  for (int fi = 0; fi < 3; ++fi)
+    for (int fj = 0; fj < 3; ++fj) {
+      std::vector<Point_3> poles;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const double x = -1.5 + fi + static_cast<double>(i) / (n - 1);
+          const double y = -1.5 + fj + static_cast<double>(j) / (n - 1);
+          poles.emplace_back(x, y, height(x, y));
+        }
+      b.faces.emplace_back(make_freeform(3, 3, n, n, std::move(poles)), "bspline");
+    }
+  return b;
+}
+
+Scenario seed_ellipsoids(bool quick) {
+  Scenario s;
+  s.key = "a";
+  s.title = "the seed's two moving ellipsoids";
+  const experiments::Ellipsoid_setup e = experiments::default_ellipsoid_setup();
+  s.a = make_ellipsoid_body(e.axes_a.x(), e.axes_a.y(), e.axes_a.z());
+  s.b = make_ellipsoid_body(e.axes_b.x(), e.axes_b.y(), e.axes_b.z());
+  s.motion_a = Motion::twist(e.pose_a, e.twist_a, 0.0);
+  s.motion_b = Motion::twist(e.pose_b, e.twist_b, 0.0);
+  s.duration = 3.0;
+  s.reference_dt = 1e-3;
+  s.single_patch = true;
+  s.reference_name = "support-function certificate of the two ellipsoids (gap <= 2e-15)";
+  auto normal = std::make_shared<Vec3>(Vec3::Zero());
+  const Motion ma = s.motion_a, mb = s.motion_b;
+  s.reference = [=](double t) {
+    const Ellipsoid_distance_result r =
+        ellipsoid_distance({ma.pose_at(t), e.axes_a}, {mb.pose_at(t), e.axes_b}, *normal);
+    *normal = r.normal;
+    return r.separated ? 0.5 * (r.lower_bound + r.upper_bound) : k_nan;
+  };
+  s.occt_a = bench::to_occt_shape(s.a, Rigid_pose_3());
+  s.occt_b = bench::to_occt_shape(s.b, Rigid_pose_3());
+  for (int n : quick ? std::vector<int>{16, 64, 256} : std::vector<int>{16, 64, 256, 724}) {
+    const std::string label = std::to_string(n) + " x " + std::to_string(n) + " grid";
+    s.meshes.push_back({label, {tessellate(s.a, n), tessellate(s.b, n)}});
+  }
+  return s;
+}
+
+Scenario crate_and_ellipsoid(bool quick) {
+  Scenario s;
+  s.key = "b";
+  s.title = "non-convex part (3 x 3 bicubic faces) under a moving ellipsoid";
+  s.a = egg_crate();
+  s.b = make_ellipsoid_body(0.6, 0.4, 0.3);
+  Twist_3 v;
+  v.linear = Vec3(0.6, 0.4, 0.0);
+  v.angular = Vec3(0.3, 0.2, 0.5);
+  s.motion_b = Motion::twist(Rigid_pose_3(Mat3::Identity(), Vec3(-0.9, -0.6, 0.95)), v, 0.0);
+  s.duration = 3.0;
+  s.reference_dt = 1e-2;
+  s.reference_name = "our certified global solver at 1e-12 (BRepExtrema checks it)";
+  auto ha = std::make_shared<Distance_hierarchy>(s.a);
+  auto hb = std::make_shared<Distance_hierarchy>(s.b);
+  auto ws = std::make_shared<Distance_workspace>();
+  const Motion mb = s.motion_b;
+  s.reference = [=](double t) {
+    Distance_request r;
+    r.absolute_tolerance = r.relative_tolerance = 1e-12;
+    return extremal_distance(*ha, Rigid_pose_3(), *hb, mb.pose_at(t), r, *ws).distance;
+  };
+  s.occt_a = bench::to_occt_shape(s.a, Rigid_pose_3());
+  s.occt_b = bench::to_occt_shape(s.b, Rigid_pose_3());
+  const std::vector<std::pair<int, int>> grids =
+      quick ? std::vector<std::pair<int, int>>{{4, 12}, {16, 48}, {64, 192}}
+            : std::vector<std::pair<int, int>>{{4, 12}, {16, 48}, {64, 192}, {192, 576}};
+  for (const auto& [na, nb] : grids) {
+    const std::string label = std::to_string(na) + "^2 per face, ellipsoid " +
+                              std::to_string(nb) + "^2";
+    s.meshes.push_back({label, {tessellate(s.a, na), tessellate(s.b, nb)}});
+  }
+  return s;
+}
+
+Scenario step_parts(bool quick, const std::string& data, bool& ok) {
+  Scenario s;
+  s.key = "c";
+  ok = false;
+  const std::string file_a = data + "/step/screw.step", file_b = data + "/step/linkrods.step";
+  s.title = "two STEP parts in relative motion (screw.step, linkrods.step)";
+  std::vector<Body> ba, bb;
+  try {
+    ba = io::load_bodies(file_a, "mm", "mm");
+    bb = io::load_bodies(file_b, "mm", "mm");
+  } catch (const std::exception& e) {
+    std::printf("\n(c) skipped: %s\n", e.what());
+    return s;
+  }
+  if (ba.size() != 1 || bb.size() != 1) {
+    std::printf("\n(c) skipped: expected one body per file, got %zu and %zu\n", ba.size(), bb.size());
+    return s;
+  }
+  s.a = std::move(ba[0]);
+  s.b = std::move(bb[0]);
+  // OpenCASCADE reads the same files for its own distance and meshes (file frame).
+  auto read = [](const std::string& path) {
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return TopoDS_Shape();
+    reader.TransferRoots();
+    return reader.OneShape();
+  };
+  s.occt_a = read(file_a);
+  s.occt_b = read(file_b);
+  if (s.occt_a.IsNull() || s.occt_b.IsNull()) {
+    std::printf("\n(c) skipped: OpenCASCADE could not read the files\n");
+    return s;
+  }
+  const Bbox_3 box_a = s.a.trimmed_bbox(s.a.placement), box_b = s.b.trimmed_bbox(s.b.placement);
+  auto centre = [](const Bbox_3& b) {
+    return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+  };
+  auto half = [](const Bbox_3& b) {
+    return 0.5 * Vec3(b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin());
+  };
+  std::printf("\n(c) %s: %zu faces, box %.1f x %.1f x %.1f mm; %s: %zu faces, box %.1f x %.1f x %.1f mm\n",
+              file_a.c_str(), s.a.faces.size(), 2 * half(box_a).x(), 2 * half(box_a).y(),
+              2 * half(box_a).z(), file_b.c_str(), s.b.faces.size(), 2 * half(box_b).x(),
+              2 * half(box_b).y(), 2 * half(box_b).z());
+  // A still; B's frame recentred on its box centre, so that it turns about that centre. B
+  // passes beside A's box along y while it turns slowly, never nearer than a tenth of A's size
+  // to A's box (its box's half diagonal bounds how far it reaches from its centre).
+  const double size_a = half(box_a).norm();
+  const double reach_b = half(box_b).norm();
+  const Rigid_pose_3 recentre(Mat3::Identity(), -centre(box_b));
+  s.b.placement = recentre * s.b.placement;
+  s.occt_b = moved(s.occt_b, recentre);
+  const Vec3 start = centre(box_a) + Vec3(half(box_a).x() + reach_b + 0.1 * size_a, -size_a, 0.0);
+  Twist_3 v;
+  v.linear = Vec3(0.0, size_a, 0.0);
+  v.angular = Vec3(0.05, 0.1, 0.15);
+  s.motion_b = Motion::twist(Rigid_pose_3(Mat3::Identity(), start), v, 0.0);
+  s.duration = 2.0;
+  s.reference_dt = quick ? 0.1 : 0.05;
+  s.reference_name = "our certified global solver at 1e-12 (BRepExtrema checks it)";
+  auto ha = std::make_shared<Distance_hierarchy>(s.a);
+  auto hb = std::make_shared<Distance_hierarchy>(s.b);
+  auto ws = std::make_shared<Distance_workspace>();
+  const Motion mb = s.motion_b;
+  const Rigid_pose_3 pa = s.a.placement, pb = s.b.placement;
+  s.reference = [=](double t) {
+    Distance_request r;
+    r.absolute_tolerance = r.relative_tolerance = 1e-12;
+    return extremal_distance(*ha, pa, *hb, mb.pose_at(t) * pb, r, *ws).distance;
+  };
+  const double size = std::max(size_a, reach_b);
+  for (double rel : quick ? std::vector<double>{1e-2, 1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4}) {
+    char label[64];
+    std::snprintf(label, sizeof label, "BRepMesh deflection %.0e of size", rel);
+    s.meshes.push_back({label, {occt_mesh(s.occt_a, rel * size), occt_mesh(s.occt_b, rel * size)}});
+  }
+  ok = true;
+  return s;
+}
+
+void run_scenario(Scenario& s, bool quick, const std::string& out_dir) {
+  Reference_cache ref(s);
+  std::vector<Row> rows;
+  const auto t_start = Clock::now();
+  // Our tracker at several rates and gains (the whole motion at each rate).
+  std::vector<Tracker_config> configs;
+  const std::vector<double> rates = s.key == "c" ? std::vector<double>{20, 100, 1000}
+                                                 : std::vector<double>{100, 1000, 10000};
+  for (double rate : rates) configs.push_back({rate, 1.0, 0, 0});
+  for (double rate : rates) configs.push_back({rate, 0.5, 0, 0});
+  if (!s.single_patch) {
+    for (double rate : rates) configs.push_back({rate, 1.0, 10, 0});
+    for (double rate : rates) configs.push_back({rate, 1.0, 10, static_cast<int>(rate / 10)});
+  }
+  for (const Tracker_config& c : configs) {
+    rows.push_back(run_tracker(s, ref, c));
+    std::fprintf(stderr, "(%s) %s %s: %.0f s\n", s.key.c_str(), rows.back().method.c_str(),
+                 rows.back().setting.c_str(), micros_since(t_start) * 1e-6);
+  }
+  // Our certified global solver.
+  const Distance_hierarchy ha(s.a), hb(s.b);
+  Distance_workspace ws;
+  const std::vector<long> frames = sample_indices(ref, quick ? 10 : (s.key == "c" ? 20 : 40));
+  for (double tol : {1e-3, 1e-6, 1e-9, 1e-12}) rows.push_back(run_global(s, ref, frames, tol, ha, hb, ws));
+  std::fprintf(stderr, "(%s) global: %.0f s\n", s.key.c_str(), micros_since(t_start) * 1e-6);
+  // OpenCASCADE.
+  if (s.single_patch) rows.push_back(run_geomapi(s, ref, frames));
+  const std::vector<long> few = sample_indices(ref, quick ? 2 : (s.key == "c" ? 3 : 5));
+  rows.push_back(run_brep(s, ref, few));
+  std::fprintf(stderr, "(%s) OpenCASCADE: %.0f s\n", s.key.c_str(), micros_since(t_start) * 1e-6);
+  // FCL on tessellations.
+  for (const auto& [label, meshes] : s.meshes) {
+    rows.push_back(run_fcl(s, ref, frames, label, meshes.first, meshes.second));
+    std::fprintf(stderr, "(%s) FCL %s: %.0f s\n", s.key.c_str(), label.c_str(),
+                 micros_since(t_start) * 1e-6);
+  }
+  report(s, rows, out_dir);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string out_dir = "bench/results";
+  std::string data = EXTREMAL_SHARED_DATA;
+  std::vector<std::string> only;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
+      out_dir = argv[++i];
+    else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
+      data = argv[++i];
+    else
+      only.push_back(argv[i]);
+  }
+  auto wanted = [&](const char* key) {
+    return only.empty() || std::find(only.begin(), only.end(), key) != only.end();
+  };
+  std::printf("bench/compare%s: time per frame and error against the certified reference\n",
+              quick ? " --quick" : "");
+  try {
+    if (wanted("a")) {
+      Scenario a = seed_ellipsoids(quick);
+      run_scenario(a, quick, out_dir);
+    }
+    if (wanted("b")) {
+      Scenario b = crate_and_ellipsoid(quick);
+      run_scenario(b, quick, out_dir);
+    }
+    if (wanted("c")) {
+      bool ok = false;
+      Scenario c = step_parts(quick, data, ok);
+      if (ok) run_scenario(c, quick, out_dir);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "compare: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
