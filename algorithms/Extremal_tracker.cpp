@@ -53,8 +53,15 @@ Extremal_tracker::Extremal_tracker(const Feature& a, const Feature& b, const Vec
     if (f.dimension() != 2) continue;
     const int offset = side == 0 ? 0 : a.dimension();
     const unsigned c = f.collapsed_edges();
-    if ((c & 3u) && (m_domain.closed & (1u << (offset + 1)))) m_pole_bounds |= 1u << offset;
-    if ((c & 12u) && (m_domain.closed & (1u << offset))) m_pole_bounds |= 1u << (offset + 1);
+    // One end may be a pole and the other a real edge (a disk: centre and rim).
+    if (m_domain.closed & (1u << (offset + 1))) {
+      if (c & 1u) m_pole_lower |= 1u << offset;
+      if (c & 2u) m_pole_upper |= 1u << offset;
+    }
+    if (m_domain.closed & (1u << offset)) {
+      if (c & 4u) m_pole_lower |= 1u << (offset + 1);
+      if (c & 8u) m_pole_upper |= 1u << (offset + 1);
+    }
   }
   // The normal form needs a reference surface and parameters on the other side.
   if (a.dimension() == 2 && b.dimension() > 0) {
@@ -64,6 +71,13 @@ Extremal_tracker::Extremal_tracker(const Feature& a, const Feature& b, const Vec
     m_normal_form = Formulation::Normal_of_b;
     m_band = options.contact_band * std::min(a.size(), b.size());
   }
+}
+
+unsigned Extremal_tracker::clamp_to_edges(Vec4& params) const {
+  const unsigned on_bound = m_domain.clamp(params);
+  if (!(on_bound & (m_pole_lower | m_pole_upper))) return on_bound;
+  const unsigned lower = m_domain.lower_mask(params);
+  return on_bound & ~((lower & m_pole_lower) | (~lower & m_pole_upper));
 }
 
 void Extremal_tracker::reset(const Vec4& params) {
@@ -77,7 +91,7 @@ Formulation Extremal_tracker::choose_form() const {
 
 unsigned Extremal_tracker::edge_mask(const Vec4& params) const {
   Vec4 p = params;
-  return m_domain.clamp(p) & ~m_pole_bounds;
+  return clamp_to_edges(p);
 }
 
 double Extremal_tracker::signed_distance(unsigned on_edge) const {
@@ -133,7 +147,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   // rhs is the parameter change over the step (U dt); U follows by dividing by dt.
   Vec4 p = params;
   // A pole is no edge: the pair goes over it (cross_poles), so it never freezes there.
-  const unsigned on_bound = m_domain.clamp(p) & ~m_pole_bounds;
+  const unsigned on_bound = clamp_to_edges(p);
   const unsigned lower = on_bound ? m_domain.lower_mask(p) : 0u;  // only read where on_bound
   // Kept for fill_result, which describes the pair this system was built at.
   m_last_on_edge = on_bound;
@@ -288,7 +302,7 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
       solves += 3;
       x += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    if (m_pole_bounds) cross_poles(x);  // only pairs with poles cross them
+    if (m_pole_lower | m_pole_upper) cross_poles(x);  // only pairs with poles cross them
     m_domain.clamp(x);
   }
   m_params = x;

@@ -109,6 +109,9 @@ class Extremal_tracker {
   Degeneracy classify_singular() const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;
+  // Clamps `params` into the domain; bit k set when parameter k sits on a patch edge (a bound
+  // that is not a pole).
+  unsigned clamp_to_edges(Vec4& params) const;
   int correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Degeneracy& degeneracy);
   void fill_result(double t, double signed_dist);
 
@@ -120,7 +123,8 @@ class Extremal_tracker {
   double m_band = 0.0;     // |d| below which the normal form is used
   Formulation m_normal_form = Formulation::Projection;  // the normal form this pair can use
   bool m_in_band = false;  // hysteresis state of the hand-over
-  unsigned m_pole_bounds = 0;  // bit k: parameter k's bounds are poles, not edges
+  // Bit k: parameter k's lower (upper) bound is a pole, not an edge.
+  unsigned m_pole_lower = 0, m_pole_upper = 0;
   Pair_system m_system;
   Track_result m_result;
   // Of the last control(): the edge mask of its parameters and the signed distance there.
