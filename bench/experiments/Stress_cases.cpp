@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -61,6 +63,9 @@ void run_pair(Stress_result& r, const Body& a, const Body& b, const Path_motion&
               const Body_pair_options& options = {}) {
   const auto t0 = std::chrono::steady_clock::now();
   Body_pair_tracker tracker(a, b, options);
+  // EXTREMAL_STRESS_TRACE=1 prints the first steps whose error exceeds the tolerance.
+  const bool trace = std::getenv("EXTREMAL_STRESS_TRACE") != nullptr;
+  int traced = 0;
   for (std::size_t i = 0; i < steps; ++i) {
     const double t = static_cast<double>(i) * k_dt;
     const Placement pa = ma.at(t), pb = mb.at(t);
@@ -71,8 +76,15 @@ void run_pair(Stress_result& r, const Body& a, const Body& b, const Path_motion&
       ++r.nan_count;
       continue;
     }
-    const double error = std::abs(rep.distance - reference(t, pa, pb));
+    const double exact = reference(t, pa, pb);
+    const double error = std::abs(rep.distance - exact);
     if (!(error <= r.lost_threshold)) ++r.lost_count;  // NaN reference counts as lost
+    if (trace && !(error <= r.tolerance) && traced++ < 40)
+      std::printf("  step %zu t %.3f: tracked %.6e exact %.6e status %s %s features %d %d "
+                  "params %.6f %.6f %.6f %.6f trackers %d\n",
+                  i, t, rep.distance, exact, to_string(rep.status), to_string(rep.degeneracy),
+                  rep.feature_a, rep.feature_b, rep.params[0], rep.params[1], rep.params[2],
+                  rep.params[3], rep.trackers);
     if (std::isfinite(error)) r.max_error = std::max(r.max_error, error);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -233,17 +245,18 @@ Stress_result near_parallel_tilted_planes(Stress_length length) {
   return r;
 }
 
-Stress_result grazing_sphere(Stress_length length) {
-  // A sphere sliding and spinning on a plane, its distance oscillating by +-1e-9 around contact.
+// A sphere sliding and spinning on a plane, its distance oscillating by +-1e-9 around contact,
+// from the orientation R0.
+Stress_result grazing_sphere(Stress_length length, const Mat3& R0, const std::string& name) {
   Stress_result r;
-  r.name = "grazing: sphere sliding at +-1e-9";
+  r.name = name;
   r.reference = "closed form c_z - r";
   const Body plane = make_plane_body(4.0, 4.0), sphere = make_sphere_body(0.5);
   Path_motion mb{[](double t) -> Vec3 {
                    return Vec3(0.8 * std::sin(0.6 * t), 0.8 * std::cos(0.5 * t),
                                0.5 + 1e-9 * std::sin(3.0 * t));
                  },
-                 Mat3::Identity(), Vec3(0.4, -0.9, 0.3), Vec3::Zero()};
+                 R0, Vec3(0.4, -0.9, 0.3), Vec3::Zero()};
   r.tolerance = 1e-11;
   r.lost_threshold = 1e-6;
   run_pair(r, plane, sphere, still(), mb,
@@ -335,11 +348,40 @@ Stress_result c0_cylinder(Stress_length length) {
                  Mat3::Identity(), Vec3(0.3, 0.2, -0.5), Vec3::Zero()};
   r.tolerance = 1e-9;
   r.lost_threshold = 1e-4;
+  r.known_issue =
+      "Body_pair_tracker takes the minimum over its feature-pair trackers, and the tracker of the "
+      "far cap reports a stationary pair through the body (d against the cap's outward normal at "
+      "an interior point) as penetration: -2.30 against +0.30 at t = 1.702";
   run_pair(r, cyl, ball, still(), mb,
            [rs](double, const Placement&, const Placement& pb) {
              return point_to_cylinder(pb.pose.translation(), 1.0, 2.0) - rs;
            },
            steps_for(length, 4200));
+  return r;
+}
+
+Stress_result c0_disk_rim(Stress_length length) {
+  // A small sphere circling a disk beside its rim, above and below its plane: the pair lies on
+  // the rim (a patch edge at v = 1, while v = 0 is the disk's collapsed centre) all the time,
+  // and crosses the seam of the closed u direction.
+  Stress_result r;
+  r.name = "C0 edge: sphere around a disk rim";
+  r.reference = "closed form (point to circle) - r_s";
+  const double rs = 0.1;
+  const Body disk = body_of({make_disk(1.0, 0.0, true)}, "disk"), ball = make_sphere_body(rs);
+  Path_motion mb{[](double t) -> Vec3 {
+                   const double rho = 1.4 + 0.1 * std::sin(1.3 * t);
+                   return Vec3(rho * std::cos(0.8 * t), rho * std::sin(0.8 * t), 0.4 * std::sin(t));
+                 },
+                 Mat3::Identity(), Vec3(0.5, 0.1, -0.3), Vec3::Zero()};
+  r.tolerance = 1e-9;
+  r.lost_threshold = 1e-4;
+  run_pair(r, disk, ball, still(), mb,
+           [rs](double, const Placement&, const Placement& pb) {
+             const Vec3 c = pb.pose.translation();
+             return std::hypot(std::hypot(c.x(), c.y()) - 1.0, c.z()) - rs;
+           },
+           steps_for(length, 8000));
   return r;
 }
 
@@ -364,12 +406,16 @@ Stress_result g1_capsule(Stress_length length) {
   const double rs = 0.25;
   const Body cap = capsule(1.0, 2.0), ball = make_sphere_body(rs);
   Path_motion mb{[](double t) -> Vec3 {
-                   return Vec3(2.0 * std::sin(1.2 * t), 0.1 * std::sin(0.5 * t),
-                               1.0 + 2.0 * std::cos(1.2 * t));
+                   return Vec3(2.6 * std::sin(1.2 * t), 0.1 * std::sin(0.5 * t),
+                               1.0 + 2.6 * std::cos(1.2 * t));
                  },
                  Mat3::Identity(), Vec3(-0.4, 0.2, 0.6), Vec3::Zero()};
   r.tolerance = 1e-9;
   r.lost_threshold = 1e-4;
+  r.known_issue =
+      "no patch transition on main: the one tracker, seeded on the upper hemisphere, stays on "
+      "its edge (the G1 join) while the nearest point moves onto the cylinder side (error "
+      "grows from t = 0.981)";
   run_pair(r, cap, ball, still(), mb,
            [rs](double, const Placement&, const Placement& pb) {
              return point_to_axis_segment(pb.pose.translation(), 2.0) - 1.0 - rs;
@@ -503,17 +549,29 @@ Stress_result random_placements(Stress_length length, std::uint64_t seed) {
 
 std::vector<std::string> stress_case_names() {
   return {"near_parallel_sphere", "near_parallel_planes", "grazing_sphere", "grazing_ellipsoid",
-          "poles_point", "poles_ellipsoids", "c0_cylinder", "g1_capsule", "degree12",
+          "poles_point", "poles_ellipsoids", "pole_at_contact",
+          "c0_disk_rim", "c0_cylinder", "g1_capsule", "degree12",
           "wide_weights", "offset_1e6", "scale_1e-6", "drift", "random"};
 }
 
 Stress_result run_stress_case(const std::string& name, Stress_length length, std::uint64_t seed) {
   if (name == "near_parallel_sphere") return near_parallel_big_sphere(length);
   if (name == "near_parallel_planes") return near_parallel_tilted_planes(length);
-  if (name == "grazing_sphere") return grazing_sphere(length);
+  if (name == "grazing_sphere")
+    return grazing_sphere(length, rotation(Vec3(1, 1, 0), 0.7), "grazing: sphere sliding at +-1e-9");
+  if (name == "pole_at_contact") {
+    // The same with the sphere's south pole (a collapsed edge) at the contact point at t = 0.
+    Stress_result r = grazing_sphere(length, Mat3::Identity(), "poles: sphere pole at contact");
+    r.known_issue =
+        "in the contact (normal) form, |d| below about 1e-5, the pair stays on the pole "
+        "(v clamped at -pi/2, u flipping by pi every step) while the lowest point moves off "
+        "it; it recovers only once |d| leaves the contact band (error 0.17)";
+    return r;
+  }
   if (name == "grazing_ellipsoid") return grazing_ellipsoid(length);
   if (name == "poles_point") return poles_point_over_sphere(length);
   if (name == "poles_ellipsoids") return poles_ellipsoids(length);
+  if (name == "c0_disk_rim") return c0_disk_rim(length);
   if (name == "c0_cylinder") return c0_cylinder(length);
   if (name == "g1_capsule") return g1_capsule(length);
   if (name == "degree12") return degree12_paraboloid(length);

@@ -32,6 +32,9 @@ struct Stress_result {
   int nan_count = 0;            // steps with a non-finite distance, witness or normal
   int lost_count = 0;
   double seconds = 0.0;  // wall time of the run (tracker and reference)
+  // Non-empty for a case that exposes a bug not fixed yet: what goes wrong. The ctest suite
+  // reports such cases as skipped (with this text) instead of failing.
+  std::string known_issue;
   bool passed() const { return nan_count == 0 && lost_count == 0 && max_error <= tolerance; }
 };
 
