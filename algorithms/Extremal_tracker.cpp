@@ -205,9 +205,14 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   };
   while (done < m_options.corrections) {
     build_pair_system(a, b, m_params, m_system, false, choose_form());
-    if (normalised_projection_errors(m_system).cwiseAbs().maxCoeff() <=
-        m_options.correction_tolerance)
-      break;
+    // A parameter held on a patch edge keeps its projection error (the reduced problem is
+    // solved without it); counting it ran every correction on every step of an edge pair.
+    Vec4 errors = normalised_projection_errors(m_system).cwiseAbs();
+    Vec4 probe = m_params;
+    const unsigned edges = edge_mask(probe);
+    for (int k = 0; k < 4; ++k)
+      if (edges & (1u << k)) errors[k] = 0.0;
+    if (errors.maxCoeff() <= m_options.correction_tolerance) break;
     const bool minimum =
         m_system.form == Formulation::Projection && signed_distance(edge_mask(m_params)) >= 0.0;
     const double before = merit(minimum);
