@@ -95,9 +95,14 @@ std::string Loglog_plot::to_svg() const {
         if (s.x[i] > 0 && std::isfinite(s.y[i])) os << X(s.x[i]) << "," << Y(s.y[i]) << " ";
       os << "\"/>\n";
     }
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      if (s.x[i] > 0 && std::isfinite(s.y[i]))
-        os << marker(static_cast<int>(k / 10 + k), X(s.x[i]), Y(s.y[i]), colour) << "\n";
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!(s.x[i] > 0 && std::isfinite(s.y[i]))) continue;
+      os << marker(static_cast<int>(k / 10 + k), X(s.x[i]), Y(s.y[i]), colour) << "\n";
+      if (i < s.point_labels.size() && !s.point_labels[i].empty())
+        os << "<text x=\"" << X(s.x[i]) + 7 << "\" y=\"" << Y(s.y[i]) - 5
+           << "\" font-size=\"10\" fill=\"" << colour << "\">" << escape(s.point_labels[i])
+           << "</text>\n";
+    }
     const double ly = top + 10 + 20.0 * k, lx = left + pw + 20;
     os << marker(static_cast<int>(k / 10 + k), lx, ly, colour) << "<text x=\"" << lx + 12
        << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";

@@ -11,6 +11,7 @@ struct Loglog_series {
   std::string label;
   std::vector<double> x, y;  // positive; points joined in order
   bool joined = true;
+  std::vector<std::string> point_labels;  // optional, one per point, drawn beside it
 };
 
 struct Loglog_plot {
