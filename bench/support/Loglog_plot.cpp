@@ -50,7 +50,7 @@ std::string Loglog_plot::to_svg() const {
   os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" "
         "fill=\"white\"/>\n";
-  os << "<text x=\"" << left + pw / 2 << "\" y=\"25\" text-anchor=\"middle\" font-size=\"15\">"
+  os << "<text x=\"10\" y=\"25\" font-size=\"15\">"
      << escape(title) << "</text>\n";
   for (int e = static_cast<int>(x0); e <= static_cast<int>(x1); ++e) {
     const double x = left + pw * (e - x0) / (x1 - x0);
