@@ -1,8 +1,12 @@
 #include "algorithms/Body_pair_tracker.h"
 
+#include <CGAL/box_intersection_d.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "algorithms/Triangle_distance.h"
 
 namespace extremal {
 
@@ -37,151 +41,626 @@ double box_distance(const Bbox_3& a, const Bbox_3& b) {
 
 namespace {
 
-// Sample parameters of a feature at the centres of a regular grid of cells: interior, so a
-// seed on a flat continuum starts away from the edges (Newton still reaches an edge or corner
-// when the pair lies there).
-std::vector<Vec4> sample_params(const Feature& f, int n) {
-  std::vector<Vec4> out;
-  auto at = [&](int dir, int i, int count) {
-    return f.lower(dir) + (f.upper(dir) - f.lower(dir)) * (i + 0.5) / count;
-  };
-  if (f.dimension() == 0) {
-    out.push_back(Vec4::Zero());
-  } else if (f.dimension() == 1) {
-    for (int i = 0; i < 2 * n; ++i) out.push_back(Vec4(at(0, i, 2 * n), 0, 0, 0));
-  } else {
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) out.push_back(Vec4(at(0, i, n), at(1, j, n), 0, 0));
-  }
-  return out;
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
+                                                      CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
+
+std::uint64_t pair_key(int a, int b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+int key_a(std::uint64_t k) { return static_cast<int>(k >> 32); }
+int key_b(std::uint64_t k) { return static_cast<int>(k & 0xffffffffu); }
+
+Bbox_3 inflate(const Bbox_3& b, double r) {
+  return Bbox_3(b.xmin() - r, b.ymin() - r, b.zmin() - r, b.xmax() + r, b.ymax() + r, b.zmax() + r);
 }
 
-// How far parameters sit from the middle of their domain (0 at the centre, 1 at a corner).
-double off_centre(const Feature& f, const Vec4& p) {
-  double s = 0.0;
-  for (int i = 0; i < f.dimension(); ++i) {
-    const double mid = 0.5 * (f.lower(i) + f.upper(i)), half = 0.5 * (f.upper(i) - f.lower(i));
-    s += ((p[i] - mid) / half) * ((p[i] - mid) / half);
-  }
-  return s;
+double diagonal(const Bbox_3& b) {
+  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
+                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
+                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
 }
 
-Bbox_3 world_box(const Feature& f, const Rigid_pose_3& X) {
-  if (f.surface()) return transformed(f.surface()->hull_bbox(), X);
-  if (f.curve()) return transformed(f.curve()->hull_bbox(), X);
-  return to_point(X.apply_point(f.point_in_body())).bbox();
+bool same_pose(const Rigid_pose_3& x, const Rigid_pose_3& y) {
+  return x.rotation() == y.rotation() && x.translation() == y.translation();
+}
+
+bool near_pose(const Rigid_pose_3& x, const Rigid_pose_3& y, double length) {
+  return (x.rotation() - y.rotation()).cwiseAbs().maxCoeff() <= 1e-14 &&
+         (x.translation() - y.translation()).cwiseAbs().maxCoeff() <= 1e-14 * length;
+}
+
+bool closed_form_pair(const Primitive& a, const Primitive& b) {
+  const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
+  return (ta && (tb || b.kind == Primitive_kind::Point)) || (tb && a.kind == Primitive_kind::Point);
+}
+
+void triangle_corners(const Tracking_model& m, const Primitive& p, const Rigid_pose_3& X, Vec3 out[3]) {
+  const auto& tri = m.body().mesh.triangles[p.index];
+  for (int k = 0; k < 3; ++k) out[k] = X.apply_point(to_vec3(m.body().mesh.vertices[tri[k]]));
+}
+
+// Descent direction of |own - other|^2 / 2 along the parameters of a surface primitive at q.
+void surface_descent(const Feature& f, const Rigid_pose_3& X, const double* q, const Vec3& other,
+                     double g[2], double scale[2]) {
+  Feature_point fp;
+  evaluate_feature(f, X, q, fp, 1);
+  const Vec3 d = fp.p - other;
+  for (int k = 0; k < 2; ++k) {
+    g[k] = -d.dot(fp.d[k]);
+    scale[k] = d.norm() * fp.d[k].norm();
+  }
 }
 
 }  // namespace
 
-Body_pair_tracker::Body_pair_tracker(const Body& a, const Body& b,
+struct Body_pair_tracker::Broad_scratch {
+  std::vector<Box> boxes_a, boxes_b;
+};
+
+Body_pair_tracker::Body_pair_tracker(const Body& a, const Body& b, const Body_pair_options& options)
+    : Body_pair_tracker(std::make_shared<const Tracking_model>(a),
+                        std::make_shared<const Tracking_model>(b), options) {}
+
+Body_pair_tracker::Body_pair_tracker(std::shared_ptr<const Tracking_model> a,
+                                     std::shared_ptr<const Tracking_model> b,
                                      const Body_pair_options& options)
-    : m_a(a), m_b(b), m_options(options), m_features_a(features_of(a)),
-      m_features_b(features_of(b)) {}
+    : m_model_a(std::move(a)), m_model_b(std::move(b)), m_options(options),
+      m_features_a(features_of(m_model_a->body())), m_features_b(features_of(m_model_b->body())),
+      m_scratch(std::make_unique<Broad_scratch>()) {
+  m_live.reserve(64);
+  m_free.reserve(64);
+}
+
+Body_pair_tracker::~Body_pair_tracker() = default;
+Body_pair_tracker::Body_pair_tracker(Body_pair_tracker&&) noexcept = default;
+
+double Body_pair_tracker::reach_margin() const {
+  if (m_options.broad_margin > 0.0) return m_options.broad_margin;
+  return 0.02 * std::min(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+}
 
 bool Body_pair_tracker::is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const {
   if (!(m_options.threshold > 0.0)) return false;
-  return box_distance(transformed(m_a.hull_bbox(), X_WA), transformed(m_b.hull_bbox(), X_WB)) >
+  return box_distance(transformed(m_model_a->box(), X_WA), transformed(m_model_b->box(), X_WB)) >
          m_options.threshold;
 }
 
-int Body_pair_tracker::feature_index(const Body& body, Element_kind kind, int element) const {
-  switch (kind) {
-    case Element_kind::Point: return 0;
-    case Element_kind::Face: return element;
-    case Element_kind::Curve: return static_cast<int>(body.faces.size()) + element;
+int Body_pair_tracker::add_live(int pa, int pb, const Vec4& params) {
+  int k;
+  if (!m_free.empty()) {
+    k = m_free.back();
+    m_free.pop_back();
+  } else {
+    k = static_cast<int>(m_live.size());
+    m_live.emplace_back();
   }
-  return -1;
+  Live& L = m_live[k];
+  const Primitive& A = m_model_a->primitives()[pa];
+  const Primitive& B = m_model_b->primitives()[pb];
+  L.pa = pa;
+  L.pb = pb;
+  L.alive = true;
+  L.valid = false;
+  L.stepped = -1;
+  L.through_contact = false;
+  L.closed_form = closed_form_pair(A, B);
+  if (!L.closed_form) L.tracker = Extremal_tracker(A.feature, B.feature, params, m_options.tracker);
+  return k;
+}
+
+void Body_pair_tracker::kill(int k) {
+  m_live[k].alive = false;
+  m_free.push_back(k);
+}
+
+namespace {
+
+// A global result's parameters on a primitive (the global solver's triangles are degree 1 x 1
+// patches with corners p0, p2 | p1, p2: (u, v) there is (u (1 - v), v) here).
+void params_from_global(const Primitive& p, const std::array<double, 2>& q, double* out) {
+  if (p.kind == Primitive_kind::Triangle) {
+    out[0] = q[0] * (1.0 - q[1]);
+    out[1] = q[1];
+    return;
+  }
+  for (int k = 0; k < p.feature.dimension(); ++k) out[k] = q[k];
+}
+
+// Sampled closest pair of two features, polished by Newton at rest (pairs the global solver
+// has no element for: mesh edges).
+// How far parameters sit from the middle of their domain (0 at the centre, 1 at a corner).
+double off_centre(const Feature& f, const double* p) {
+  double s = 0.0;
+  for (int i = 0; i < f.dimension(); ++i) {
+    const double mid = 0.5 * (f.lower(i) + f.upper(i)), half = 0.5 * (f.upper(i) - f.lower(i));
+    if (half > 0.0) s += ((p[i] - mid) / half) * ((p[i] - mid) / half);
+  }
+  return s;
+}
+
+Vec4 sampled_seed(const Feature& A, const Rigid_pose_3& X_WA, const Feature& B,
+                  const Rigid_pose_3& X_WB, int n = 8) {
+  auto sample = [n](const Feature& f, int i, int j, double* q) {
+    for (int k = 0; k < f.dimension(); ++k) {
+      const int idx = k == 0 ? i : j;
+      q[k] = f.lower(k) + (f.upper(k) - f.lower(k)) * (idx + 0.5) / n;
+    }
+  };
+  const int ia = A.dimension() >= 1 ? n : 1, ja = A.dimension() == 2 ? n : 1;
+  const int ib = B.dimension() >= 1 ? n : 1, jb = B.dimension() == 2 ? n : 1;
+  double best = std::numeric_limits<double>::infinity();
+  Vec4 start = Vec4::Zero();
+  Feature_point fa, fb;
+  for (int i = 0; i < ia; ++i)
+    for (int j = 0; j < ja; ++j) {
+      double qa[2] = {0, 0};
+      sample(A, i, j, qa);
+      evaluate_feature(A, X_WA, qa, fa, 0);
+      for (int k = 0; k < ib; ++k)
+        for (int l = 0; l < jb; ++l) {
+          double qb[2] = {0, 0};
+          sample(B, k, l, qb);
+          evaluate_feature(B, X_WB, qb, fb, 0);
+          const double d = (fa.p - fb.p).squaredNorm();
+          if (d < best) {
+            best = d;
+            for (int c = 0; c < A.dimension(); ++c) start[c] = qa[c];
+            for (int c = 0; c < B.dimension(); ++c) start[A.dimension() + c] = qb[c];
+          }
+        }
+    }
+  return solve_pair_at_rest({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, start).params;
+}
+
+}  // namespace
+
+void Body_pair_tracker::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
+                                       const Rigid_pose_3& X_WB, Vec4& params) const {
+  // A witness on a patch side of a pair of surfaces may be one of a continuum of equal pairs
+  // (flat on flat): a start inside, from the closest of a few interior samples, tracks better
+  // (beside an edge the sign of the distance says nothing). Kept only when it is as close.
+  const Feature& A = m_model_a->primitives()[pa].feature;
+  const Feature& B = m_model_b->primitives()[pb].feature;
+  if (A.dimension() != 2 || B.dimension() != 2) return;
+  const Parameter_domain domain = Parameter_domain::of(A, B);
+  Vec4 probe = params;
+  if (!(domain.clamp(probe) & ~domain.closed)) return;
+  Pair_system s;
+  build_pair_system({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, params, s, false);
+  const double d0 = s.d.norm();
+  // Interior samples of each side projected on the other: the closest, the most central
+  // among ties.
+  Vec4 inner = params;
+  double d1 = std::numeric_limits<double>::infinity(), c1 = d1;
+  constexpr int n = 4;
+  for (int side = 0; side < 2; ++side) {
+    const Feature& F = side == 0 ? A : B;
+    const Feature& G = side == 0 ? B : A;
+    const Rigid_pose_3& XF = side == 0 ? X_WA : X_WB;
+    const Rigid_pose_3& XG = side == 0 ? X_WB : X_WA;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double q[2] = {F.lower(0) + (F.upper(0) - F.lower(0)) * (i + 0.5) / n,
+                             F.lower(1) + (F.upper(1) - F.lower(1)) * (j + 0.5) / n};
+        Surface_point sp;
+        F.surface()->evaluate(q[0], q[1], sp, 0);
+        const Feature point = Feature::point(sp.p);
+        const Vec4 start(0.5 * (G.lower(0) + G.upper(0)), 0.5 * (G.lower(1) + G.upper(1)), 0, 0);
+        const Newton_result nr = solve_pair_at_rest({&G, &XG, nullptr}, {&point, &XF, nullptr}, start);
+        Vec4 cand;
+        if (side == 0) cand << q[0], q[1], nr.params[0], nr.params[1];
+        else cand << nr.params[0], nr.params[1], q[0], q[1];
+        build_pair_system({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, cand, s, false);
+        const double d = s.d.norm();
+        const double c = off_centre(A, cand.data()) + off_centre(B, cand.data() + 2);
+        const bool tie = std::abs(d - d1) <= 1e-12 * (1.0 + d1);
+        if ((!tie && d < d1) || (tie && c < c1)) d1 = d, c1 = c, inner = cand;
+      }
+  }
+  if (d1 <= d0 + 1e-12 * (1.0 + d0) &&
+      c1 < off_centre(A, params.data()) + off_centre(B, params.data() + 2))
+    params = inner;
+}
+
+void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
+                                  const Rigid_pose_3& X_WB) {
+  const Primitive& A = m_model_a->primitives()[pa];
+  const Primitive& B = m_model_b->primitives()[pb];
+  Vec4 params = Vec4::Zero();
+  if (closed_form_pair(A, B)) {
+    add_live(pa, pb, params);
+    return;
+  }
+  if (A.global_element >= 0 && B.global_element >= 0) {
+    const Distance_result g = extremal_distance_between(
+        m_model_a->hierarchy(), X_WA, A.global_element, m_model_b->hierarchy(), X_WB,
+        B.global_element, m_options.global, m_workspace);
+    if (g.element_a < 0 || g.element_b < 0) return;  // nothing of the pair on the bodies
+    params_from_global(A, g.params_a, params.data());
+    params_from_global(B, g.params_b, params.data() + A.feature.dimension());
+  } else {
+    params = sampled_seed(A.feature, X_WA, B.feature, X_WB);
+  }
+  prefer_central(pa, pb, X_WA, X_WB, params);
+  add_live(pa, pb, params);
+  ++m_report.seeds;
+}
+
+void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                    double reach) {
+  const Tracking_model& A = *m_model_a;
+  const Tracking_model& B = *m_model_b;
+  // Cut each body's tree by the other body's world box (inflated by the reach) taken into its
+  // frame: what remains is near the other body.
+  const Bbox_3 wa = transformed(A.box(), X_WA);
+  const Bbox_3 wb = transformed(B.box(), X_WB);
+  m_prims_a.clear();
+  m_prims_b.clear();
+  const bool edges_a = !(B.has_mesh() || B.body().is_point);
+  const bool edges_b = !(A.has_mesh() || A.body().is_point);
+  A.collect(transformed(inflate(wb, reach), X_WA.inverse()), edges_a, m_prims_a);
+  B.collect(transformed(inflate(wa, reach), X_WB.inverse()), edges_b, m_prims_b);
+  // World boxes of the survivors, inflated by half the reach each: boxes that intersect are
+  // within the reach along every axis; the exact box distance decides.
+  auto& ba = m_scratch->boxes_a;
+  auto& bb = m_scratch->boxes_b;
+  ba.clear();
+  bb.clear();
+  m_world_a.clear();
+  m_world_b.clear();
+  for (int p : m_prims_a) {
+    m_world_a.push_back(transformed(A.primitives()[p].box, X_WA));
+    ba.emplace_back(inflate(m_world_a.back(), 0.5 * reach), static_cast<int>(m_world_a.size()) - 1);
+  }
+  for (int p : m_prims_b) {
+    m_world_b.push_back(transformed(B.primitives()[p].box, X_WB));
+    bb.emplace_back(inflate(m_world_b.back(), 0.5 * reach), static_cast<int>(m_world_b.size()) - 1);
+  }
+  m_next_candidates.clear();
+  CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(),
+                           [&](const Box& x, const Box& y) {
+                             const int i = x.info(), j = y.info();
+                             if (box_distance(m_world_a[i], m_world_b[j]) > reach) return;
+                             m_next_candidates.push_back(pair_key(m_prims_a[i], m_prims_b[j]));
+                           });
+  std::sort(m_next_candidates.begin(), m_next_candidates.end());
+  // Pairs that left: their trackers go. Pairs that entered: seeded.
+  std::size_t i = 0, j = 0;
+  auto drop = [&](std::uint64_t key) {
+    for (std::size_t k = 0; k < m_live.size(); ++k)
+      if (m_live[k].alive && pair_key(m_live[k].pa, m_live[k].pb) == key) kill(static_cast<int>(k));
+  };
+  while (i < m_candidates.size() || j < m_next_candidates.size()) {
+    if (j == m_next_candidates.size() ||
+        (i < m_candidates.size() && m_candidates[i] < m_next_candidates[j])) {
+      drop(m_candidates[i++]);
+    } else if (i == m_candidates.size() || m_next_candidates[j] < m_candidates[i]) {
+      const std::uint64_t key = m_next_candidates[j++];
+      bool tracked = false;  // a tracker may have arrived by a transition
+      for (const Live& L : m_live)
+        if (L.alive && pair_key(L.pa, L.pb) == key) tracked = true;
+      if (!tracked) seed_pair(key_a(key), key_b(key), X_WA, X_WB);
+    } else {
+      ++i;
+      ++j;
+    }
+  }
+  // Trackers that moved by transitions onto pairs outside the set go too.
+  for (std::size_t k = 0; k < m_live.size(); ++k)
+    if (m_live[k].alive &&
+        !std::binary_search(m_next_candidates.begin(), m_next_candidates.end(),
+                            pair_key(m_live[k].pa, m_live[k].pb)))
+      kill(static_cast<int>(k));
+  m_candidates.swap(m_next_candidates);
+  m_last_relative = X_WA.inverse() * X_WB;
 }
 
 bool Body_pair_tracker::seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                          double tracked) {
-  if (!m_hierarchy_a) {
-    m_hierarchy_a = std::make_unique<Distance_hierarchy>(m_a);
-    m_hierarchy_b = std::make_unique<Distance_hierarchy>(m_b);
-  }
-  const Distance_result g =
-      extremal_distance(*m_hierarchy_a, X_WA, *m_hierarchy_b, X_WB, m_options.global, m_workspace);
+  const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
+                                              X_WB, m_options.global, m_workspace);
   ++m_report.audits;
   if (g.element_a < 0 || g.element_b < 0) return false;
-  if (!(g.upper_bound < tracked - g.tolerance_used)) return false;
-  const Tracker_seed seed = tracker_seed(m_a, m_b, g);
-  const int fa = feature_index(m_a, seed.kind_a, seed.element_a);
-  const int fb = feature_index(m_b, seed.kind_b, seed.element_b);
-  if (fa < 0 || fa >= static_cast<int>(m_features_a.size()) || fb < 0 ||
-      fb >= static_cast<int>(m_features_b.size()))
+  if (!(g.upper_bound < tracked - std::max(g.tolerance_used, g.upper_bound - g.lower_bound)))
     return false;
-  for (Live& live : m_live)
-    if (live.fa == fa && live.fb == fb) {
-      live.tracker.reset(seed.params);  // another basin of the same feature pair
+  const int pa = m_model_a->primitive_of(g.kind_a, g.element_a);
+  const int pb = m_model_b->primitive_of(g.kind_b, g.element_b);
+  if (pa < 0 || pb < 0) return false;
+  Vec4 params = Vec4::Zero();
+  const Primitive& A = m_model_a->primitives()[pa];
+  params_from_global(A, g.params_a, params.data());
+  params_from_global(m_model_b->primitives()[pb], g.params_b, params.data() + A.feature.dimension());
+  prefer_central(pa, pb, X_WA, X_WB, params);
+  for (std::size_t k = 0; k < m_live.size(); ++k)
+    if (m_live[k].alive && m_live[k].pa == pa && m_live[k].pb == pb && !m_live[k].closed_form) {
+      m_live[k].tracker.reset(params);  // another basin of the same pair
+      m_live[k].stepped = -1;
       return true;
     }
-  m_live.push_back({fa, fb,
-                    Extremal_tracker(m_features_a[fa], m_features_b[fb], seed.params,
-                                     m_options.tracker)});
+  add_live(pa, pb, params);
+  const std::uint64_t key = pair_key(pa, pb);
+  if (!std::binary_search(m_candidates.begin(), m_candidates.end(), key))
+    m_candidates.insert(std::upper_bound(m_candidates.begin(), m_candidates.end(), key), key);
   return true;
 }
 
 void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
-  m_live.clear();
+  for (std::size_t k = 0; k < m_live.size(); ++k)
+    if (m_live[k].alive) kill(static_cast<int>(k));
+  m_candidates.clear();
   m_started = true;
-  struct Seed {
-    int fa, fb;
-    Vec4 params;
-    double distance;
-  };
-  std::vector<Seed> seeds;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < m_features_a.size(); ++i) {
-    const Feature& A = m_features_a[i];
-    const auto pa = sample_params(A, m_options.seed_samples);
-    std::vector<Vec3> wa;
-    for (const Vec4& p : pa) {
-      Feature_point fp;
-      evaluate_feature(A, X_WA, p.data(), fp, 0);
-      wa.push_back(fp.p);
+  const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
+                                              X_WB, m_options.global, m_workspace);
+  ++m_report.audits;
+  broad_phase(X_WA, X_WB, std::max(g.upper_bound, 0.0) + reach_margin());
+  // The certified pair, should the broad phase have missed it.
+  if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) {
+    // It seeds (or re-seeds) the global pair; duplicates merge after the first step.
+  }
+}
+
+void Body_pair_tracker::step_live(int k) {
+  Live& L = m_live[k];
+  L.stepped = m_steps;
+  const Tracking_model& MA = *m_model_a;
+  const Tracking_model& MB = *m_model_b;
+  const Primitive& A = MA.primitives()[L.pa];
+  const Primitive& B = MB.primitives()[L.pb];
+  if (L.closed_form) {
+    Track_result& r = L.result;
+    r.time = m_t;
+    r.status = Track_status::Tracking;
+    r.degeneracy = Degeneracy::None;
+    r.params.setZero();
+    r.iterations = 0;
+    if (A.kind == Primitive_kind::Triangle && B.kind == Primitive_kind::Triangle) {
+      Vec3 ta[3], tb[3];
+      triangle_corners(MA, A, *m_XA, ta);
+      triangle_corners(MB, B, *m_XB, tb);
+      const Triangle_closest c = triangle_distance(ta, tb);
+      r.distance = c.distance;
+      r.point_a = c.point_a;
+      r.point_b = c.point_b;
+      r.params << c.uv_a[0], c.uv_a[1], c.uv_b[0], c.uv_b[1];
+    } else {
+      const bool tri_a = A.kind == Primitive_kind::Triangle;
+      Vec3 t[3];
+      triangle_corners(tri_a ? MA : MB, tri_a ? A : B, tri_a ? *m_XA : *m_XB, t);
+      const Vec3 q = (tri_a ? *m_XB : *m_XA).translation();
+      double uv[2];
+      const Vec3 c = closest_on_triangle(q, t[0], t[1], t[2], uv);
+      r.point_a = tri_a ? c : q;
+      r.point_b = tri_a ? q : c;
+      r.distance = (r.point_b - r.point_a).norm();
+      r.params[0] = uv[0];
+      r.params[1] = uv[1];
     }
-    for (std::size_t j = 0; j < m_features_b.size(); ++j) {
-      const Feature& B = m_features_b[j];
-      const auto pb = sample_params(B, m_options.seed_samples);
-      // Closest sample pair; among (near) ties the most central one, so that a continuum of
-      // pairs (flat on flat) is seeded away from the edges.
-      double d2 = std::numeric_limits<double>::infinity(), centrality = d2;
-      std::size_t bi = 0, bj = 0;
-      for (std::size_t jj = 0; jj < pb.size(); ++jj) {
-        Feature_point fp;
-        evaluate_feature(B, X_WB, pb[jj].data(), fp, 0);
-        const double cb = off_centre(B, pb[jj]);
-        for (std::size_t ii = 0; ii < wa.size(); ++ii) {
-          const double e = (wa[ii] - fp.p).squaredNorm();
-          const double c = cb + off_centre(A, pa[ii]);
-          const bool tie = std::abs(e - d2) <= 1e-12 * (d2 + 1e-300);
-          if ((!tie && e < d2) || (tie && c < centrality)) d2 = e, centrality = c, bi = ii, bj = jj;
+    r.normal = r.distance > 0.0 ? Vec3((r.point_b - r.point_a) / r.distance) : Vec3::Zero();
+    L.valid = true;
+    return;
+  }
+  L.result = L.tracker.step(m_t, *m_XA, *m_VA, *m_XB, *m_VB, m_dt);
+  const int na = A.feature.dimension();
+  L.valid = (!A.is_surface() || MA.contains(L.pa, L.result.params.data())) &&
+            (!B.is_surface() || MB.contains(L.pb, L.result.params.data() + na));
+  // A penetration depth counts only for a pair that went inside through contact (the normal
+  // form's band around it): a face turned away from the other body (the far side of a torus
+  // seen from its hole) also has d against its outward normal, with the bodies apart.
+  if (L.result.normal_form) L.through_contact = true;
+  else if (L.result.distance > 0.0) L.through_contact = false;
+  if (L.result.distance < -m_options.contact_tolerance && !L.through_contact) L.valid = false;
+}
+
+bool Body_pair_tracker::transition(int k) {
+  Live& L = m_live[k];
+  if (L.closed_form || !L.alive) return false;
+  const Track_result& r = L.result;
+  // Only apart: inside, the tracked pair is a saddle of the distance and descent means nothing.
+  if (!(r.distance > m_options.contact_tolerance)) return false;
+  const int na = m_model_a->primitives()[L.pa].feature.dimension();
+  for (int side = 0; side < 2; ++side) {
+    const Tracking_model& M = side == 0 ? *m_model_a : *m_model_b;
+    const int p = side == 0 ? L.pa : L.pb;
+    const Primitive& P = M.primitives()[p];
+    const double* q = r.params.data() + (side == 0 ? 0 : na);
+    const Rigid_pose_3& X = side == 0 ? *m_XA : *m_XB;
+    const Vec3& other = side == 0 ? r.point_b : r.point_a;
+    int np = -1;
+    double nq[2] = {0, 0};
+    if (P.is_surface()) {
+      const Nurbs_surface_3& S = *P.feature.surface();
+      double g[2], scale[2];
+      surface_descent(P.feature, X, q, other, g, scale);
+      const double bound[4] = {S.u_min(), S.u_max(), S.v_min(), S.v_max()};
+      // Sides the point sits on with the descent pointing out of the patch.
+      int out_side = -1;
+      for (int s = 0; s < 4; ++s) {
+        const int dir = s / 2;
+        if (q[dir] != bound[s]) continue;
+        if (P.feature.collapsed_edges() & (1u << s)) continue;
+        if (dir == 0 ? S.is_closed_u() : S.is_closed_v()) continue;
+        const double outward = (s % 2 == 0) ? -g[dir] : g[dir];
+        if (outward > 1e-10 * scale[dir]) out_side = s;
+      }
+      int link_count = 0;
+      M.edges_of(p, link_count);
+      if (link_count > 0 && (out_side >= 0 || !M.contains(p, q))) {
+        // Off a trimmed face, a triangle or a face with B-rep edges: onto the nearest edge.
+        Surface_point sp;
+        S.evaluate(q[0], q[1], sp, 0);
+        double t = 0.0;
+        np = M.nearest_edge(p, sp.p, t);
+        nq[0] = t;
+      } else if (out_side >= 0 && P.side_neighbour[out_side] >= 0) {
+        // Across a matched patch side, if the descent enters the neighbour.
+        const int n = P.side_neighbour[out_side];
+        const int ns = P.side_neighbour_side[out_side];
+        double mq[2];
+        if (M.map_across_side(p, out_side, q, mq)) {
+          double gn[2], sn[2];
+          surface_descent(M.primitives()[n].feature, X, mq, other, gn, sn);
+          const int dir = ns / 2;
+          const double inward = (ns % 2 == 0) ? gn[dir] : -gn[dir];
+          if (inward > 1e-10 * sn[dir]) {
+            np = n;
+            nq[0] = mq[0];
+            nq[1] = mq[1];
+          }
         }
       }
-      Vec4 start = Vec4::Zero();
-      start.head(A.dimension()) = pa[bi].head(A.dimension());
-      start.segment(A.dimension(), B.dimension()) = pb[bj].head(B.dimension());
-      const Newton_result n =
-          solve_pair_at_rest({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, start);
-      Pair_system s;
-      build_pair_system({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, n.params, s, false);
-      const double d = s.d.norm();
-      best = std::min(best, d);
-      seeds.push_back({static_cast<int>(i), static_cast<int>(j), n.params, d});
+    } else if (P.feature.dimension() == 1) {
+      int count = 0;
+      const Edge_on_face* faces = M.faces_of(p, count);
+      const double t = q[0];
+      for (int f = 0; f < count && np < 0; ++f) {
+        const Edge_on_face& use = faces[f];
+        const Primitive& F = M.primitives()[use.face];
+        double uv[2], uv1[2], uv0[2];
+        use.map(t, uv);
+        const double h = 1e-6 * (P.feature.upper(0) - P.feature.lower(0));
+        use.map(t + h, uv1);
+        use.map(t - h, uv0);
+        // The edge's normal in the face's parameter plane, oriented into the face.
+        double nrm[2] = {-(uv1[1] - uv0[1]), uv1[0] - uv0[0]};
+        const double len = std::hypot(nrm[0], nrm[1]);
+        if (!(len > 0.0)) continue;
+        nrm[0] /= len;
+        nrm[1] /= len;
+        const Nurbs_surface_3& S = *F.feature.surface();
+        const double band = F.trim ? F.trim->tolerance()
+                                   : 1e-6 * std::max(S.u_max() - S.u_min(), S.v_max() - S.v_min());
+        const double eps = 4.0 * band;
+        auto inside = [&](double s) {
+          const double x[2] = {uv[0] + s * eps * nrm[0], uv[1] + s * eps * nrm[1]};
+          return x[0] >= S.u_min() && x[0] <= S.u_max() && x[1] >= S.v_min() && x[1] <= S.v_max() &&
+                 M.contains(use.face, x);
+        };
+        const bool plus = inside(1.0), minus = inside(-1.0);
+        if (plus == minus) continue;  // cannot tell the face's side here
+        if (!plus) nrm[0] = -nrm[0], nrm[1] = -nrm[1];
+        double cq[2] = {std::clamp(uv[0], S.u_min(), S.u_max()), std::clamp(uv[1], S.v_min(), S.v_max())};
+        double g[2], scale[2];
+        surface_descent(F.feature, X, cq, other, g, scale);
+        const double inward = g[0] * nrm[0] + g[1] * nrm[1];
+        if (inward > 1e-10 * std::max(scale[0], scale[1])) {
+          np = use.face;
+          nq[0] = cq[0];
+          nq[1] = cq[1];
+        }
+      }
+    }
+    if (np < 0) continue;
+    // Hand the tracker over: same other side, this side on the new primitive.
+    const int npa = side == 0 ? np : L.pa;
+    const int npb = side == 0 ? L.pb : np;
+    const Feature& fa = m_model_a->primitives()[npa].feature;
+    const Feature& fb = m_model_b->primitives()[npb].feature;
+    Vec4 params = Vec4::Zero();
+    if (side == 0) {
+      for (int c = 0; c < fa.dimension(); ++c) params[c] = nq[c];
+      for (int c = 0; c < fb.dimension(); ++c) params[fa.dimension() + c] = r.params[na + c];
+    } else {
+      for (int c = 0; c < fa.dimension(); ++c) params[c] = r.params[c];
+      for (int c = 0; c < fb.dimension(); ++c) params[fa.dimension() + c] = nq[c];
+    }
+    L.pa = npa;
+    L.pb = npb;
+    L.tracker = Extremal_tracker(fa, fb, params, m_options.tracker);
+    L.through_contact = false;
+    ++m_report.transitions;
+    step_live(k);
+    return true;
+  }
+  return false;
+}
+
+void Body_pair_tracker::merge_duplicates() {
+  const double tol = 1e-7 * std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+  for (std::size_t i = 0; i < m_live.size(); ++i) {
+    if (!m_live[i].alive) continue;
+    for (std::size_t j = i + 1; j < m_live.size(); ++j) {
+      Live& x = m_live[i];
+      Live& y = m_live[j];
+      if (!y.alive || x.pa != y.pa || x.pb != y.pb) continue;
+      if ((x.result.point_a - y.result.point_a).norm() + (x.result.point_b - y.result.point_b).norm() >
+          tol)
+        continue;
+      kill(static_cast<int>(j));
+      ++m_report.merges;
     }
   }
-  // Keep feature pairs whose boxes could still hold the minimum.
-  for (const Seed& s : seeds) {
-    const double lower = box_distance(world_box(m_features_a[s.fa], X_WA),
-                                      world_box(m_features_b[s.fb], X_WB));
-    if (lower > best + 1e-9 * (1.0 + best)) continue;
-    m_live.push_back({s.fa, s.fb,
-                      Extremal_tracker(m_features_a[s.fa], m_features_b[s.fb], s.params,
-                                       m_options.tracker)});
+}
+
+namespace {
+
+// Report ids of a primitive: its Body face index (curves after the faces, triangles after
+// them as in the global solver), the B-rep edge, and its parameters on that face (`dim` of
+// them).
+int report_feature(const Tracking_model& m, int p, const double* q, double* out, int& edge,
+                   int& dim) {
+  const Primitive& P = m.primitives()[p];
+  const int nf = static_cast<int>(m.body().faces.size());
+  edge = -1;
+  dim = P.feature.dimension();
+  for (int c = 0; c < dim; ++c) out[c] = q[c];
+  switch (P.kind) {
+    case Primitive_kind::Point: return 0;
+    case Primitive_kind::Face: return P.index;
+    case Primitive_kind::Triangle: return nf + P.index;
+    case Primitive_kind::Curve: return nf + P.index;
+    case Primitive_kind::Edge:
+    case Primitive_kind::Mesh_edge: {
+      if (P.kind == Primitive_kind::Edge) edge = P.index;
+      int count = 0;
+      const Edge_on_face* faces = m.faces_of(p, count);
+      if (count == 0) return -1;
+      faces[0].map(q[0], out);
+      dim = 2;
+      const Primitive& F = m.primitives()[faces[0].face];
+      return F.kind == Primitive_kind::Triangle ? nf + F.index : F.index;
+    }
   }
-  // The certified global pair, where sampling missed it.
-  if (seed_from_global(X_WA, X_WB, best)) ++m_report.reseeds;
+  return -1;
+}
+
+}  // namespace
+
+void Body_pair_tracker::fill_report() {
+  Pair_report& r = m_report;
+  int best = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  int trackers = 0;
+  for (std::size_t k = 0; k < m_live.size(); ++k) {
+    const Live& L = m_live[k];
+    if (!L.alive) continue;
+    ++trackers;
+    if (L.valid && L.result.distance < best_d) best_d = L.result.distance, best = static_cast<int>(k);
+  }
+  r.trackers = trackers;
+  r.candidates = static_cast<int>(m_candidates.size());
+  if (best < 0) return;
+  const Live& L = m_live[best];
+  const Track_result& tr = L.result;
+  r.distance = tr.distance;
+  r.point_a = tr.point_a;
+  r.point_b = tr.point_b;
+  r.normal = tr.normal;
+  r.degeneracy = tr.degeneracy;
+  const int na = m_model_a->primitives()[L.pa].feature.dimension();
+  double qa[2] = {0, 0}, qb[2] = {0, 0};
+  int da = 0, db = 0;
+  r.feature_a = report_feature(*m_model_a, L.pa, tr.params.data(), qa, r.edge_a, da);
+  r.feature_b = report_feature(*m_model_b, L.pb, tr.params.data() + na, qb, r.edge_b, db);
+  r.params.setZero();
+  for (int c = 0; c < da; ++c) r.params[c] = qa[c];
+  for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
+  const double tol = m_options.contact_tolerance;
+  r.status = tr.distance < -tol                             ? Pair_status::Penetrating
+             : tr.distance <= tol                           ? Pair_status::Contact
+             : tr.status == Track_status::Singular_fallback ? Pair_status::Fallback
+             : tr.status == Track_status::On_boundary       ? Pair_status::Boundary
+                                                            : Pair_status::Tracking;
 }
 
 const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
@@ -191,43 +670,64 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   r.time = t;
   if (is_farther(X_WA, X_WB)) {
     r.status = Pair_status::Farther;
-    r.distance = box_distance(transformed(m_a.hull_bbox(), X_WA), transformed(m_b.hull_bbox(), X_WB));
+    r.distance = box_distance(transformed(m_model_a->box(), X_WA), transformed(m_model_b->box(), X_WB));
     r.point_a = r.point_b = r.normal = Vec3::Zero();
-    r.feature_a = r.feature_b = -1;
+    r.feature_a = r.feature_b = r.edge_a = r.edge_b = -1;
     r.degeneracy = Degeneracy::None;
     r.trackers = 0;
+    r.candidates = 0;
     m_started = false;  // re-seed when the pair comes back within the threshold
+    m_have_pose = false;
     return r;
   }
-  if (!m_started) start(X_WA, X_WB);
+  // Nothing moved since the last step: the same answer.
+  if (m_started && m_have_pose && same_pose(X_WA, m_last_A) && same_pose(X_WB, m_last_B))
+    return r;
+  m_t = t;
+  m_dt = dt;
+  m_XA = &X_WA;
+  m_XB = &X_WB;
+  m_VA = &V_A;
+  m_VB = &V_B;
   ++m_steps;
+  if (!m_started) start(X_WA, X_WB);
+  // 1. Step the live trackers at t; hand the ones that left their primitive across.
   double best = std::numeric_limits<double>::infinity();
-  for (Live& live : m_live) {
-    const Track_result& tr = live.tracker.step(t, X_WA, V_A, X_WB, V_B, dt);
-    if (tr.distance < best) {
-      best = tr.distance;
-      r.distance = tr.distance;
-      r.point_a = tr.point_a;
-      r.point_b = tr.point_b;
-      r.normal = tr.normal;
-      r.params = tr.params;
-      r.feature_a = live.fa;
-      r.feature_b = live.fb;
-      r.degeneracy = tr.degeneracy;
-      const double tol = m_options.contact_tolerance;
-      // Contact and penetration matter most to a simulator; the degeneracy stays in
-      // r.degeneracy whatever the status.
-      r.status = tr.distance < -tol                           ? Pair_status::Penetrating
-                 : tr.distance <= tol                         ? Pair_status::Contact
-                 : tr.status == Track_status::Singular_fallback ? Pair_status::Fallback
-                 : tr.status == Track_status::On_boundary     ? Pair_status::Boundary
-                                                              : Pair_status::Tracking;
+  auto step_all = [&] {
+    for (std::size_t k = 0; k < m_live.size(); ++k) {
+      if (!m_live[k].alive || m_live[k].stepped == m_steps) continue;
+      step_live(static_cast<int>(k));
+      for (int hop = 0; hop < 3 && transition(static_cast<int>(k)); ++hop) {
+      }
+    }
+    for (const Live& L : m_live)
+      if (L.alive && L.valid) best = std::min(best, L.result.distance);
+  };
+  step_all();
+  // 2. Broad phase where the relative pose changed: new candidate pairs seeded, far ones gone.
+  const double length = std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+  if (!near_pose(X_WA.inverse() * X_WB, m_last_relative, length)) {
+    // |best|: inside, the tracked pair's own primitives lie |best| apart.
+    if (std::isfinite(best)) {
+      broad_phase(X_WA, X_WB, std::abs(best) + reach_margin());
+      step_all();
     }
   }
-  r.trackers = static_cast<int>(m_live.size());
+  // 3. Lost everything (all witnesses off the bodies): the certified solver re-seeds.
+  if (!std::isfinite(best)) {
+    if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
+    step_all();
+  }
+  merge_duplicates();
   if (m_options.audit_every > 0 && m_steps % m_options.audit_every == 0 &&
-      seed_from_global(X_WA, X_WB, best))
+      seed_from_global(X_WA, X_WB, best)) {
     ++r.reseeds;
+    step_all();
+  }
+  fill_report();
+  m_last_A = X_WA;
+  m_last_B = X_WB;
+  m_have_pose = true;
   return r;
 }
 

@@ -1,14 +1,27 @@
-// Tracks the extremal pair between two bodies made of several features (faces, curves or a
-// point): one Extremal_tracker per candidate feature pair, the pair's answer the minimum over
-// them, with feature ids.
+// Tracks the extremal pair between two bodies made of many primitives (faces, B-rep edges,
+// curves, a point, mesh triangles) - ../shared/DESIGN.md section 3:
+//   - broad phase: world boxes of the primitives (body-frame hull boxes transformed, never
+//     rebuilt), inflated by the current distance plus a margin, paired by
+//     CGAL::box_intersection_d after a body-frame tree cut, so the cost follows the near
+//     primitives, not the body size; skipped while the relative pose does not change;
+//   - one Extremal_tracker per live candidate pair, seeded by the certified global solver on
+//     that pair (extremal_distance_between) when the pair enters the candidate set;
+//   - patch switching: a tracked point that leaves its face across an edge continues on the
+//     other side with mapped parameters (face -> edge -> face across B-rep edges, face -> face
+//     across geometrically matched patch sides, triangle -> mesh edge -> triangle in meshes),
+//     a transition, not a restart; trackers that reach the same pair merge;
+//   - triangle-triangle and triangle-point pairs of mesh bodies: exact closed forms;
+//   - the body pair's answer: the minimum over trackers whose witnesses lie on the bodies
+//     (inside trims and triangles), with face ids and parameters.
 #pragma once
 
-#include <vector>
-
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "algorithms/Extremal_tracker.h"
 #include "algorithms/Global_distance.h"
+#include "algorithms/Tracking_model.h"
 #include "kernel/Body.h"
 
 namespace extremal {
@@ -27,12 +40,19 @@ struct Pair_report {
   double time = 0.0;
   double distance = 0.0;  // signed where the geometry has an outward side
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
-  int feature_a = -1, feature_b = -1;  // face index (curves follow the faces)
+  // Face index (curves follow the faces, mesh triangles follow them as in the global solver);
+  // a witness on a B-rep or mesh edge names a face along it, params mapped onto that face.
+  int feature_a = -1, feature_b = -1;
   Vec4 params = Vec4::Zero();
+  int edge_a = -1, edge_b = -1;  // B-rep edge (Body::edges) the witness lies on, else -1
   Pair_status status = Pair_status::Tracking;
   Degeneracy degeneracy = Degeneracy::None;
   int trackers = 0;  // live feature-pair trackers
   int audits = 0, reseeds = 0;  // global audits so far and the trackers they seeded
+  // Totals since the start: patch transitions (a tracker handed across an edge or side),
+  // merges (trackers that reached the same pair), trackers seeded for new candidate pairs.
+  long transitions = 0, merges = 0, seeds = 0;
+  int candidates = 0;  // live candidate primitive pairs of the broad phase
 };
 
 struct Body_pair_options {
@@ -44,6 +64,9 @@ struct Body_pair_options {
     return o;
   }();
   double threshold = 0.0;  // > 0: pairs whose boxes are farther apart are not tracked
+  // Broad-phase margin added to the current distance (scene units); 0: 2% of the smaller
+  // body's box diagonal.
+  double broad_margin = 0.0;
   double contact_tolerance = 1e-9;  // |distance| at or below this is contact
   int seed_samples = 16;   // samples per surface direction when seeding (32 per curve)
   // Steps between audits by the certified global solver (0 = never): when the global minimum
@@ -63,6 +86,11 @@ class Body_pair_tracker {
  public:
   // The bodies must outlive the tracker.
   Body_pair_tracker(const Body& a, const Body& b, const Body_pair_options& options = {});
+  // With prepared models (shared between the pairs of a scene); they must outlive the tracker.
+  Body_pair_tracker(std::shared_ptr<const Tracking_model> a, std::shared_ptr<const Tracking_model> b,
+                    const Body_pair_options& options = {});
+  ~Body_pair_tracker();
+  Body_pair_tracker(Body_pair_tracker&&) noexcept;
 
   // Converged solve at rest at poses X_WA, X_WB: a tracker on the certified global pair, plus
   // one per other feature pair whose sampled and Newton-polished minimum can compete. Called by
@@ -74,27 +102,64 @@ class Body_pair_tracker {
 
   const std::vector<Feature>& features_a() const { return m_features_a; }
   const std::vector<Feature>& features_b() const { return m_features_b; }
+  const Tracking_model& model_a() const { return *m_model_a; }
+  const Tracking_model& model_b() const { return *m_model_b; }
 
  private:
   struct Live {
-    int fa, fb;
-    Extremal_tracker tracker;
+    int pa = -1, pb = -1;  // primitives
+    bool closed_form = false;  // a mesh triangle against a triangle or the point: no tracker
+    bool alive = false;
+    bool valid = false;  // the witnesses lie on the bodies
+    long stepped = -1;   // the step it was last stepped in
+    bool through_contact = false;  // it reached its side of contact through the contact band
+    Extremal_tracker tracker{Feature::point(Vec3::Zero()), Feature::point(Vec3::Zero()), Vec4::Zero()};
+    Track_result result;
   };
   bool is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const;
-  // Feature index of a global result's element on side A or B.
-  int feature_index(const Body& body, Element_kind kind, int element) const;
-  // Runs the global solver; seeds (or re-seeds) the tracker of its feature pair when it beats
-  // `tracked` by more than its tolerance. Returns true if it seeded.
+  // Runs the global solver; seeds a tracker on its pair when it beats `tracked` by more than its
+  // tolerance. Returns true if it seeded.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
+  void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
+  // A tracker (or closed form) on primitive pair (pa, pb) from parameters at time t; returns
+  // its slot.
+  int add_live(int pa, int pb, const Vec4& params);
+  // Seeds pair (pa, pb) from the global solver restricted to it (or its closed form).
+  void seed_pair(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // Steps slot k at time t (evaluates the closed form), setting its validity.
+  void step_live(int k);
+  // Replaces a seed on a patch side by an interior pair at the same distance, if there is one.
+  void prefer_central(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                      Vec4& params) const;
+  // Hands slot k across an edge or side when its point left its primitive; true if it moved.
+  bool transition(int k);
+  void merge_duplicates();
+  void kill(int k);
+  void fill_report();
+  double reach_margin() const;
 
-  const Body& m_a;
-  const Body& m_b;
+  std::shared_ptr<const Tracking_model> m_model_a, m_model_b;
   Body_pair_options m_options;
   std::vector<Feature> m_features_a, m_features_b;
   std::vector<Live> m_live;
-  std::unique_ptr<Distance_hierarchy> m_hierarchy_a, m_hierarchy_b;  // built at the first start
+  std::vector<int> m_free;  // free slots of m_live
+  // Broad phase: candidate pairs (pa << 32 | pb), sorted, and scratch.
+  std::vector<std::uint64_t> m_candidates, m_next_candidates;
+  std::vector<int> m_prims_a, m_prims_b;
+  std::vector<Bbox_3> m_world_a, m_world_b;
+  struct Broad_scratch;
+  std::unique_ptr<Broad_scratch> m_scratch;
   Distance_workspace m_workspace;
   bool m_started = false;
+  bool m_have_pose = false;
+  Rigid_pose_3 m_last_A, m_last_B;  // poses of the last step
+  Rigid_pose_3 m_last_relative;     // X_AB at the last broad phase
+  // The current step's inputs, for step_live and transition.
+  double m_t = 0.0, m_dt = 1e-3;
+  const Rigid_pose_3* m_XA = nullptr;
+  const Rigid_pose_3* m_XB = nullptr;
+  const Twist_3* m_VA = nullptr;
+  const Twist_3* m_VB = nullptr;
   long m_steps = 0;
   Pair_report m_report;
 };

@@ -226,6 +226,21 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
   }
   if (m_pieces.empty())
     throw Invalid_input("body '" + body.name + "' has no point, face or curve to measure from");
+  // Pieces were added element by element: record each element's range and its lookup.
+  for (auto& e : m_elements) e.piece_count = 0;
+  for (int p = static_cast<int>(m_pieces.size()) - 1; p >= 0; --p) {
+    Element& e = m_elements[m_pieces[p].element];
+    e.first_piece = p;
+    ++e.piece_count;
+  }
+  m_face_element.assign(body.faces.size() + body.mesh.triangles.size(), -1);
+  m_curve_element.assign(body.curves.size() + body.edges.size(), -1);
+  for (std::size_t k = 0; k < m_elements.size(); ++k) {
+    const Element& e = m_elements[k];
+    if (e.kind == Element_kind::Face) m_face_element[e.index] = static_cast<int>(k);
+    if (e.kind == Element_kind::Curve) m_curve_element[e.index] = static_cast<int>(k);
+  }
+  m_leaf_of_piece.assign(m_pieces.size(), -1);
   std::vector<int> ids(m_pieces.size());
   std::iota(ids.begin(), ids.end(), 0);
   m_tree.reserve(2 * m_pieces.size());
@@ -238,6 +253,21 @@ bool Distance_hierarchy::on_body(int e, const double* q) const {
   const Nurbs_surface_3& s = *el.feature.surface();
   return q[0] >= s.u_min() && q[0] <= s.u_max() && q[1] >= s.v_min() && q[1] <= s.v_max() &&
          m_trims[e].contains(q[0], q[1]);
+}
+
+int Distance_hierarchy::element_of(Element_kind kind, int index) const {
+  switch (kind) {
+    case Element_kind::Point:
+      return !m_elements.empty() && m_elements.front().kind == Element_kind::Point ? 0 : -1;
+    case Element_kind::Face:
+      return index >= 0 && index < static_cast<int>(m_face_element.size()) ? m_face_element[index]
+                                                                           : -1;
+    case Element_kind::Curve:
+      return index >= 0 && index < static_cast<int>(m_curve_element.size())
+                 ? m_curve_element[index]
+                 : -1;
+  }
+  return -1;
 }
 
 bool Distance_hierarchy::may_hold_trimmed(int e, const double* lo, const double* hi) const {
@@ -263,6 +293,7 @@ int Distance_hierarchy::build_tree(std::vector<int>& ids, int begin, int end) {
   m_tree[index].radius = box_half_diagonal(box);
   if (end - begin == 1) {
     m_tree[index].piece = ids[begin];
+    m_leaf_of_piece[ids[begin]] = index;
     return index;
   }
   int axis = 0;
@@ -520,9 +551,15 @@ class Solver {
     m_side[1] = Side{&B, &X_WB, &scratch.side[1]};
   }
 
+  // Only element ea of A against element eb of B (both >= 0), or everything (both -1).
+  void restrict_to(int ea, int eb) {
+    m_only[0] = ea;
+    m_only[1] = eb;
+  }
   Distance_result run();
 
  private:
+  int m_only[2] = {-1, -1};
   double lower_bound(Live_node& a, Live_node& b, double cutoff);
   void project_on_axis(Live_node& n, int side);
   void corner_candidates(const Live_node& a, const Live_node& b);
@@ -1052,10 +1089,35 @@ Distance_result Solver::run() {
 
   Distance_result result;
   auto& heap = m_scratch.heap;
-  const int ra = m_side[0].make_from_tree(0, 0);
-  const int rb = m_side[1].make_from_tree(0, 0);
-  heap.push_back({lower_bound(m_side[0].pools->nodes[ra], m_side[1].pools->nodes[rb], HUGE_VAL),
-                  ra, rb});
+  if (m_only[0] < 0) {
+    const int ra = m_side[0].make_from_tree(0, 0);
+    const int rb = m_side[1].make_from_tree(0, 0);
+    heap.push_back({lower_bound(m_side[0].pools->nodes[ra], m_side[1].pools->nodes[rb], HUGE_VAL),
+                    ra, rb});
+  } else {
+    // The pieces of the two elements, pair by pair.
+    const auto& ea = m_side[0].h->elements()[m_only[0]];
+    const auto& eb = m_side[1].h->elements()[m_only[1]];
+    const int first_b = static_cast<int>(m_side[1].pools->nodes.size());
+    for (int q = 0; q < eb.piece_count; ++q)
+      m_side[1].make_from_tree(m_side[1].h->leaf_of_piece(eb.first_piece + q), 1);
+    for (int p = 0; p < ea.piece_count; ++p) {
+      const int na = m_side[0].make_from_tree(m_side[0].h->leaf_of_piece(ea.first_piece + p), 1);
+      if (!m_side[0].h->may_hold_trimmed(m_only[0], m_side[0].pools->nodes[na].lo,
+                                         m_side[0].pools->nodes[na].hi))
+        continue;
+      for (int q = 0; q < eb.piece_count; ++q) {
+        const int nb = first_b + q;
+        if (!m_side[1].h->may_hold_trimmed(m_only[1], m_side[1].pools->nodes[nb].lo,
+                                           m_side[1].pools->nodes[nb].hi))
+          continue;
+        heap.push_back({lower_bound(m_side[0].pools->nodes[na], m_side[1].pools->nodes[nb],
+                                    HUGE_VAL),
+                        na, nb});
+        std::push_heap(heap.begin(), heap.end(), Heap_order());
+      }
+    }
+  }
   double dropped = HUGE_VAL;  // smallest bound among pruned and settled pairs
   bool out_of_budget = false;
   long pops = 0;
@@ -1179,6 +1241,22 @@ Distance_result extremal_distance(const Distance_hierarchy& A, const Rigid_pose_
   EXTREMAL_PRECONDITION_MSG(request.max_seconds >= 0.0,
                             "max_seconds must be >= 0, got " << request.max_seconds);
   Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
+  return solver.run();
+}
+
+Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                          int element_a, const Distance_hierarchy& B,
+                                          const Rigid_pose_3& X_WB, int element_b,
+                                          const Distance_request& request,
+                                          Distance_workspace& workspace) {
+  EXTREMAL_PRECONDITION_MSG(
+      element_a >= 0 && element_a < static_cast<int>(A.elements().size()) && element_b >= 0 &&
+          element_b < static_cast<int>(B.elements().size()),
+      "no element pair (" << element_a << ", " << element_b << ") in '" << A.name() << "' and '"
+                          << B.name() << "'");
+  EXTREMAL_PRECONDITION_MSG(request.max_nodes > 0, "max_nodes must be > 0, got " << request.max_nodes);
+  Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
+  solver.restrict_to(element_a, element_b);
   return solver.run();
 }
 

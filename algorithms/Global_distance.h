@@ -77,6 +77,8 @@ class Distance_hierarchy {
     // 3 of the second (clear for a wrapping direction, or a face whose edges are all curve
     // elements here); bit 4: a trim boundary no curve element carries.
     unsigned open_sides = 0;
+    // Its Bezier pieces: pieces()[first_piece .. first_piece + piece_count).
+    int first_piece = 0, piece_count = 0;
   };
   struct Piece {  // one Bezier piece, body frame
     int element = -1;
@@ -114,6 +116,11 @@ class Distance_hierarchy {
   // False only when the parameter box [lo, hi] of a piece of element e holds no point of the
   // trimmed face (Trim_region::box_outside): such nodes can be dropped.
   bool may_hold_trimmed(int e, const double* lo, const double* hi) const;
+  // The element of a body's face, curve (B-rep edges after Body::curves) or point, or -1 when
+  // it has none (a degenerate edge).
+  int element_of(Element_kind kind, int index) const;
+  // The tree leaf holding piece p.
+  int leaf_of_piece(int p) const { return m_leaf_of_piece[p]; }
 
  private:
   int build_tree(std::vector<int>& piece_ids, int begin, int end);
@@ -127,6 +134,8 @@ class Distance_hierarchy {
   std::vector<Piece> m_pieces;
   std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> m_poles;
   std::vector<Tree_node> m_tree;
+  std::vector<int> m_leaf_of_piece;
+  std::vector<int> m_face_element, m_curve_element;  // by Body face / curve index, -1 if none
 };
 
 struct Distance_request {
@@ -214,6 +223,17 @@ class Distance_workspace {
 [[nodiscard]] Distance_result extremal_distance(const Body& A, const Rigid_pose_3& X_WA,
                                                 const Body& B, const Rigid_pose_3& X_WB,
                                                 const Distance_request& request = {});
+
+// The certified distance between one element of A and one element of B (element ids as in
+// Distance_hierarchy::elements(), e.g. from element_of): the same branch and bound started from
+// the pairs of those elements' pieces only, so its cost follows the two elements, not the
+// bodies. A tracker for a new candidate face pair starts from it.
+[[nodiscard]] Distance_result extremal_distance_between(const Distance_hierarchy& A,
+                                                        const Rigid_pose_3& X_WA, int element_a,
+                                                        const Distance_hierarchy& B,
+                                                        const Rigid_pose_3& X_WB, int element_b,
+                                                        const Distance_request& request,
+                                                        Distance_workspace& workspace);
 
 // ---- Starting and auditing trackers --------------------------------------------------------
 

@@ -1,0 +1,124 @@
+// A body prepared for tracking against other bodies (../shared/DESIGN.md section 3): its
+// primitives (faces, curves, B-rep edges, a point; a mesh's triangles and their edges), their
+// body-frame boxes in a bounding-volume tree for the broad phase, and the adjacency a tracked
+// point follows when it leaves a primitive:
+//   - across a B-rep edge: face -> edge (the trim boundary in 3D) -> the face on the other side,
+//     parameters mapped through each face's trim curve uv(t) (the edge parameter t is shared);
+//   - across a patch side of an untrimmed multi-patch body without B-rep (generated bodies):
+//     sides matched geometrically (their boundary curves coincide), parameters mapped by
+//     projecting the point on the neighbour's side;
+//   - a mesh: each triangle is a flat patch (the parallelogram spanned by its corners, limited
+//     to u + v <= 1) with its three edges as segments, shared by the adjacent triangles.
+// Built once per body; a query or a step transforms boxes, it never rebuilds them.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "algorithms/Feature.h"
+#include "algorithms/Global_distance.h"
+#include "kernel/Body.h"
+
+namespace extremal {
+
+enum class Primitive_kind {
+  Face,       // Body::faces[index]
+  Curve,      // Body::curves[index]
+  Edge,       // Body::edges[index]'s 3D curve over [t_min, t_max]
+  Point,      // a point body's origin
+  Triangle,   // Body::mesh.triangles[index]: p0 + u (p1 - p0) + v (p2 - p0), u, v >= 0, u + v <= 1
+  Mesh_edge,  // a segment between two mesh vertices, t in [0, 1]
+};
+
+struct Primitive {
+  Primitive_kind kind = Primitive_kind::Face;
+  int index = -1;
+  Feature feature = Feature::point(Vec3::Zero());
+  Bbox_3 box;  // body frame, of the control points (encloses the primitive)
+  const Trim_region* trim = nullptr;  // a trimmed face's region (null: the whole domain)
+  // The global solver's element (Distance_hierarchy ids) for seeding and audits.
+  int global_element = -1;
+  // Surfaces: the primitive across each side (u_min, u_max, v_min, v_max), or -1.
+  std::array<int, 4> side_neighbour{{-1, -1, -1, -1}};
+  std::array<int, 4> side_neighbour_side{{-1, -1, -1, -1}};  // which side of the neighbour
+  // Surfaces: their bounding edges; edges: the faces that use them (ranges into the model's
+  // link lists).
+  int first_link = 0, link_count = 0;
+
+  bool is_surface() const { return feature.dimension() == 2; }
+  bool is_mesh() const { return kind == Primitive_kind::Triangle || kind == Primitive_kind::Mesh_edge; }
+};
+
+// How an edge lies on one face that uses it: uv(t) on the face, from the face's trim curve or,
+// for a mesh edge, the affine map origin + t * direction in the triangle's (u, v).
+struct Edge_on_face {
+  int face = -1;  // primitive index of the face (or triangle)
+  const Nurbs_curve_3* uv = nullptr;
+  double origin[2] = {0, 0}, direction[2] = {0, 0};
+  void map(double t, double out[2]) const;
+};
+
+class Tracking_model {
+ public:
+  // Throws Invalid_input for an empty body. The body must outlive the model.
+  explicit Tracking_model(const Body& body);
+  Tracking_model(const Tracking_model&) = delete;
+  Tracking_model& operator=(const Tracking_model&) = delete;
+
+  const Body& body() const { return m_body; }
+  const std::vector<Primitive>& primitives() const { return m_primitives; }
+  const Distance_hierarchy& hierarchy() const { return m_hierarchy; }
+  // The primitive of a global result's element (kind and Body index as in Distance_result).
+  int primitive_of(Element_kind kind, int index) const;
+  // Box of the whole body, body frame.
+  const Bbox_3& box() const { return m_box; }
+  bool has_mesh() const { return m_has_mesh; }
+  // Number of patch sides matched geometrically (multi-patch bodies without B-rep).
+  int matched_sides() const { return m_matched_sides; }
+
+  // Appends to `out` the primitives whose body-frame box overlaps `query` (body frame),
+  // skipping mesh edges when `with_mesh_edges` is false. No allocation beyond `out`'s growth.
+  void collect(const Bbox_3& query, bool with_mesh_edges, std::vector<int>& out) const;
+
+  // Edges of face primitive f (each a primitive index).
+  const int* edges_of(int f, int& count) const;
+  // Faces along edge primitive e.
+  const Edge_on_face* faces_of(int e, int& count) const;
+
+  // Whether parameters of a primitive lie on the body (inside the trim or triangle).
+  bool contains(int primitive, const double* params) const;
+
+  // Across a patch side: the point at `params` of surface primitive f on side `side` maps to
+  // `out` on the neighbour (side_neighbour[side]). Returns false when the projection fails.
+  bool map_across_side(int f, int side, const double* params, double out[2]) const;
+  // The edge of face f nearest to the body-frame point p, with the edge parameter; -1 if f has
+  // no edges.
+  int nearest_edge(int f, const Vec3& p, double& t) const;
+
+ private:
+  void add_brep_edges();
+  void add_mesh();
+  void match_patch_sides();
+  void build_tree();
+
+  const Body& m_body;
+  Distance_hierarchy m_hierarchy;
+  std::vector<Primitive> m_primitives;
+  std::vector<std::unique_ptr<Nurbs_surface_3>> m_own_surfaces;
+  std::vector<std::unique_ptr<Nurbs_curve_3>> m_own_curves;
+  std::vector<int> m_face_edges;             // links of faces: edge primitives
+  std::vector<Edge_on_face> m_edge_faces;    // links of edges: faces
+  std::vector<int> m_face_primitive, m_curve_primitive, m_edge_primitive, m_triangle_primitive;
+  int m_point_primitive = -1;
+  struct Node {
+    Bbox_3 box;
+    int left = -1, right = -1, primitive = -1;
+  };
+  std::vector<Node> m_tree;
+  Bbox_3 m_box;
+  bool m_has_mesh = false;
+  int m_matched_sides = 0;
+};
+
+}  // namespace extremal

@@ -1,0 +1,148 @@
+#include "algorithms/Triangle_distance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace extremal {
+
+namespace {
+
+// (u, v) of point p in the plane of the triangle (least squares).
+void coordinates(const Vec3& p, const Vec3& p0, const Vec3& p1, const Vec3& p2, double uv[2]) {
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0, w = p - p0;
+  const double a = e1.dot(e1), b = e1.dot(e2), c = e2.dot(e2), d = w.dot(e1), e = w.dot(e2);
+  const double det = a * c - b * b;
+  if (!(std::abs(det) > 0.0)) {
+    uv[0] = uv[1] = 0.0;
+    return;
+  }
+  uv[0] = (c * d - b * e) / det;
+  uv[1] = (a * e - b * d) / det;
+}
+
+// Closest points of segments [p, q] and [r, s] (Ericson, Real-Time Collision Detection 5.1.9).
+double segment_segment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
+                       Vec3& c2) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 0.0 && e <= 0.0) {
+    c1 = p1;
+    c2 = p2;
+    return (c1 - c2).norm();
+  }
+  if (a <= 0.0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 0.0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  c1 = p1 + d1 * s;
+  c2 = p2 + d2 * t;
+  return (c1 - c2).norm();
+}
+
+// A point where segment [p, q] crosses triangle t, if it does.
+bool segment_crosses(const Vec3& p, const Vec3& q, const Vec3 t[3], Vec3& x) {
+  const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
+  if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || dp == dq) return false;
+  x = p + (q - p) * (dp / (dp - dq));
+  double uv[2];
+  coordinates(x, t[0], t[1], t[2], uv);
+  return uv[0] >= 0.0 && uv[1] >= 0.0 && uv[0] + uv[1] <= 1.0;
+}
+
+}  // namespace
+
+Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, double uv[2]) {
+  // Ericson 5.1.5: Voronoi regions of the vertices, edges and face.
+  const Vec3 ab = b - a, ac = c - a, ap = q - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) { uv[0] = 0; uv[1] = 0; return a; }
+  const Vec3 bp = q - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) { uv[0] = 1; uv[1] = 0; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    const double v = d1 / (d1 - d3);
+    uv[0] = v; uv[1] = 0;
+    return a + v * ab;
+  }
+  const Vec3 cp = q - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) { uv[0] = 0; uv[1] = 1; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    const double w = d2 / (d2 - d6);
+    uv[0] = 0; uv[1] = w;
+    return a + w * ac;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    uv[0] = 1.0 - w; uv[1] = w;
+    return b + w * (c - b);
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  uv[0] = v; uv[1] = w;
+  return a + ab * v + ac * w;
+}
+
+Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]) {
+  Triangle_closest r;
+  r.distance = HUGE_VAL;
+  for (int side = 0; side < 2; ++side) {
+    const Vec3* s = side == 0 ? a : b;
+    const Vec3* o = side == 0 ? b : a;
+    for (int e = 0; e < 3; ++e) {
+      Vec3 x;
+      if (segment_crosses(s[e], s[(e + 1) % 3], o, x)) {
+        r.distance = 0.0;
+        r.point_a = r.point_b = x;
+        coordinates(x, a[0], a[1], a[2], r.uv_a);
+        coordinates(x, b[0], b[1], b[2], r.uv_b);
+        return r;
+      }
+    }
+  }
+  auto offer = [&](double d, const Vec3& pa, const Vec3& pb) {
+    if (d < r.distance) {
+      r.distance = d;
+      r.point_a = pa;
+      r.point_b = pb;
+    }
+  };
+  double uv[2];
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 qb = closest_on_triangle(a[k], b[0], b[1], b[2], uv);
+    offer((a[k] - qb).norm(), a[k], qb);
+    const Vec3 qa = closest_on_triangle(b[k], a[0], a[1], a[2], uv);
+    offer((b[k] - qa).norm(), qa, b[k]);
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Vec3 ca, cb;
+      const double d = segment_segment(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], ca, cb);
+      offer(d, ca, cb);
+    }
+  coordinates(r.point_a, a[0], a[1], a[2], r.uv_a);
+  coordinates(r.point_b, b[0], b[1], b[2], r.uv_b);
+  return r;
+}
+
+}  // namespace extremal

@@ -1,0 +1,23 @@
+// Exact closest points between triangles and points (mesh bodies): closed forms, no iteration.
+#pragma once
+
+#include "kernel/Types.h"
+
+namespace extremal {
+
+struct Triangle_closest {
+  double distance = 0.0;          // >= 0; 0 when the triangles meet
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();
+  // Witness coordinates in each triangle: p = p0 + u (p1 - p0) + v (p2 - p0).
+  double uv_a[2] = {0, 0}, uv_b[2] = {0, 0};
+};
+
+// Closest point of triangle (p0, p1, p2) to q; writes its (u, v) and returns it.
+Vec3 closest_on_triangle(const Vec3& q, const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                         double uv[2]);
+
+// Closest points of two triangles (exact up to rounding): the minimum over the six
+// vertex-triangle and nine edge-edge pairs, or a common point when they meet.
+Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]);
+
+}  // namespace extremal

@@ -1,0 +1,376 @@
+// Non-convex bodies in motion: multi-patch and multi-face bodies tracked by Body_pair_tracker
+// (broad phase, patch transitions, merges, mesh primitives), audited against the certified
+// global solver at every step.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/Global_distance.h"
+#include "algorithms/Scene_stepper.h"
+#include "algorithms/Triangle_distance.h"
+#include "io/Model_reader.h"
+#include "kernel/Error.h"
+#include "kernel/Motion.h"
+#include "kernel/Nurbs_refinement.h"
+#include "kernel/Shapes.h"
+#include "support/Allocation_counter.h"
+
+using namespace extremal;
+
+namespace {
+
+constexpr double k_pi = 3.14159265358979323846;
+
+// Splits every face of `s` at its interior knots in both directions: a multi-patch body whose
+// patches meet along shared boundary curves and carry no B-rep adjacency.
+Body multi_patch(const Nurbs_surface_3& s, const std::string& name, const std::vector<double>& us,
+                 const std::vector<double>& vs) {
+  Body b;
+  b.name = name;
+  std::vector<Nurbs_surface_3> strips{s};
+  for (double u : us) {
+    auto [lo, hi] = split(strips.back(), Parameter_direction::U, u);
+    strips.back() = lo;
+    strips.push_back(hi);
+  }
+  for (Nurbs_surface_3 strip : strips) {
+    for (double v : vs) {
+      auto [lo, hi] = split(strip, Parameter_direction::V, v);
+      lo.set_outward_sign(s.outward_sign());
+      b.faces.emplace_back(lo, "patch");
+      strip = hi;
+    }
+    strip.set_outward_sign(s.outward_sign());
+    b.faces.emplace_back(strip, "patch");
+  }
+  return b;
+}
+
+struct Pose_and_twist {
+  Rigid_pose_3 pose;
+  Twist_3 twist;
+};
+
+Rigid_pose_3 pose_of(const Vec3& p, const Vec3& axis = Vec3::UnitZ(), double angle = 0.0) {
+  return Rigid_pose_3(Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(), p);
+}
+
+struct Audit_stats {
+  int steps = 0;
+  int audited = 0;
+  double worst_relative = 0.0;  // |tracked - certified| / max(certified, scale floor)
+  int below_lower_bound = 0;    // tracked distance below the certified lower bound
+  long transitions = 0, merges = 0, seeds = 0;
+  int max_trackers = 0, max_candidates = 0;
+  std::vector<int> faces_a, faces_b;  // distinct reported faces
+};
+
+// Steps the pair over [0, duration] at dt; every `audit_every` steps compares the tracked
+// minimum with the certified global distance at the same poses.
+Audit_stats run_audited(const char* name, const Body& a, const Body& b,
+                        const std::function<Pose_and_twist(double)>& motion_a,
+                        const std::function<Pose_and_twist(double)>& motion_b, double duration,
+                        double dt, int audit_every = 1, Body_pair_options options = {}) {
+  Body_pair_tracker tracker(a, b, options);
+  Distance_request request;
+  request.absolute_tolerance = 1e-13;
+  request.relative_tolerance = 1e-11;
+  request.max_nodes = 400000;
+  Distance_workspace ws;
+  const Distance_hierarchy& ha = tracker.model_a().hierarchy();
+  const Distance_hierarchy& hb = tracker.model_b().hierarchy();
+  Audit_stats s;
+  const double size = std::max(tracker.model_a().box().xmax() - tracker.model_a().box().xmin(),
+                               tracker.model_b().box().xmax() - tracker.model_b().box().xmin());
+  for (int i = 0; i * dt <= duration + 1e-12; ++i) {
+    const double t = i * dt;
+    const Pose_and_twist ma = motion_a(t), mb = motion_b(t);
+    const Pair_report& r = tracker.step(t, ma.pose, ma.twist, mb.pose, mb.twist, dt);
+    ++s.steps;
+    EXPECT_TRUE(std::isfinite(r.distance)) << name << " t = " << t;
+    s.max_trackers = std::max(s.max_trackers, r.trackers);
+    s.max_candidates = std::max(s.max_candidates, r.candidates);
+    if (std::find(s.faces_a.begin(), s.faces_a.end(), r.feature_a) == s.faces_a.end())
+      s.faces_a.push_back(r.feature_a);
+    if (std::find(s.faces_b.begin(), s.faces_b.end(), r.feature_b) == s.faces_b.end())
+      s.faces_b.push_back(r.feature_b);
+    if (i % audit_every != 0) continue;
+    const Distance_result g = extremal_distance(ha, ma.pose, hb, mb.pose, request, ws);
+    EXPECT_TRUE(g.is_certified()) << name << " t = " << t << ": " << to_string(g.status);
+    ++s.audited;
+    const double floor = 1e-6 * size;  // the relative measure needs a scale near contact
+    const double rel = std::abs(r.distance - g.distance) / std::max(g.distance, floor);
+    if (rel > s.worst_relative) s.worst_relative = rel;
+    if (rel > 1e-9)
+      ADD_FAILURE() << name << " t = " << t << ": tracked " << r.distance << " (faces "
+                    << r.feature_a << ", " << r.feature_b << ", " << r.trackers
+                    << " trackers) certified " << g.distance << " (elements " << g.element_a
+                    << ", " << g.element_b << ")";
+    if (r.distance < g.lower_bound - 1e-12 * size) ++s.below_lower_bound;
+  }
+  const Pair_report& r = tracker.step(duration + dt, motion_a(duration + dt).pose, Twist_3{},
+                                      motion_b(duration + dt).pose, Twist_3{}, dt);
+  s.transitions = r.transitions;
+  s.merges = r.merges;
+  s.seeds = r.seeds;
+  std::printf("[ case     ] %-28s %d steps, %d audited: worst relative error %.2e, transitions "
+              "%ld, merges %ld, seeds %ld, trackers <= %d, candidates <= %d, faces %zu / %zu\n",
+              name, s.steps, s.audited, s.worst_relative, s.transitions, s.merges, s.seeds,
+              s.max_trackers, s.max_candidates, s.faces_a.size(), s.faces_b.size());
+  return s;
+}
+
+Pose_and_twist at_rest(double) { return {Rigid_pose_3(), Twist_3{}}; }
+
+Twist_3 twist(const Vec3& v, const Vec3& w) {
+  Twist_3 t;
+  t.linear = v;
+  t.angular = w;
+  return t;
+}
+
+std::string shared_data(const std::string& rel) { return std::string(EXTREMAL_SHARED_DATA) + "/" + rel; }
+
+}  // namespace
+
+TEST(BodyScenes, MultiPatchTorusWithASphereThroughItsHole) {
+  // Torus R = 2, r = 0.8 in 16 patches (split at the quarter knots); a sphere of radius 0.5
+  // passes through the hole off the axis while the torus turns about its axis, so the nearest
+  // point runs over the inner equator (a patch side in v) and across the u sides.
+  const Nurbs_surface_3 torus = make_torus(2.0, 0.8);
+  const double hu = 0.5 * (torus.u_min() + torus.u_max()), hv = 0.5 * (torus.v_min() + torus.v_max());
+  const double qu = 0.5 * (torus.u_min() + hu), qv = 0.5 * (torus.v_min() + hv);
+  const Body a = multi_patch(torus, "torus", {qu, hu, hu + (hu - qu)}, {qv, hv, hv + (hv - qv)});
+  ASSERT_EQ(a.faces.size(), 16u);
+  const Body b = make_sphere_body(0.5);
+  const double w = 0.8;  // rad/s about z
+  auto torus_motion = [&](double t) {
+    return Pose_and_twist{pose_of(Vec3::Zero(), Vec3::UnitZ(), w * t), twist(Vec3::Zero(), Vec3(0, 0, w))};
+  };
+  auto sphere_motion = [&](double t) {
+    const Vec3 v(0.0, 0.0, 2.0);
+    return Pose_and_twist{pose_of(Vec3(0.35, 0.1, -3.0) + v * t), twist(v, Vec3::Zero())};
+  };
+  const Audit_stats s = run_audited("torus 16 patches / sphere", a, b, torus_motion, sphere_motion,
+                                    3.0, 0.01);
+  EXPECT_LE(s.worst_relative, 1e-9);
+  EXPECT_EQ(s.below_lower_bound, 0);
+  EXPECT_GT(s.transitions, 0);
+  EXPECT_GE(s.faces_a.size(), 3u);  // the minimum visits several patches
+}
+
+TEST(BodyScenes, MultiPatchFreeformAgainstAMovingEllipsoid) {
+  // A wavy bicubic sheet (non-convex) in 16 patches; a turning ellipsoid glides over it.
+  const int n = 7;
+  std::vector<Point_3> poles;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      poles.emplace_back(i * 1.0, j * 1.0, 0.6 * std::sin(1.3 * i) * std::cos(0.9 * j));
+  const Nurbs_surface_3 sheet = make_freeform(3, 3, n, n, poles);
+  const Body a = multi_patch(sheet, "sheet", {0.25, 0.5, 0.75}, {0.25, 0.5, 0.75});
+  ASSERT_EQ(a.faces.size(), 16u);
+  const Body b = make_ellipsoid_body(0.6, 0.4, 0.3);
+  auto ellipsoid = [&](double t) {
+    const Vec3 p(0.8 + 1.5 * t, 1.0 + 1.0 * t, 1.4);
+    const Vec3 v(1.5, 1.0, 0.0), w(0.3, 0.0, 1.0);
+    return Pose_and_twist{pose_of(p, w, w.norm() * t), twist(v, w)};
+  };
+  const Audit_stats s = run_audited("freeform 16 patches / ellipsoid", a, b, at_rest, ellipsoid,
+                                    3.0, 0.01);
+  EXPECT_LE(s.worst_relative, 1e-9);
+  EXPECT_EQ(s.below_lower_bound, 0);
+  EXPECT_GT(s.transitions, 0);
+  EXPECT_GE(s.faces_a.size(), 3u);
+}
+
+TEST(BodyScenes, StepPartAgainstAMovingSphere) {
+  // screw.step: 10 trimmed faces (planes, a cylinder, tori, cones) with B-rep edges; a sphere
+  // circles the part, so the nearest point crosses faces and edges.
+  const io::Model m = io::read_model(shared_data("step/screw.step"));
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Body& part = m.bodies[0];
+  ASSERT_GE(part.faces.size(), 10u);
+  ASSERT_FALSE(part.edges.empty());
+  const Bbox_3 box = part.trimmed_bbox();
+  const Vec3 c(0.5 * (box.xmin() + box.xmax()), 0.5 * (box.ymin() + box.ymax()),
+               0.5 * (box.zmin() + box.zmax()));
+  const Vec3 ext(box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin());
+  const double radius = 0.15 * ext.minCoeff();
+  const Body ball = make_sphere_body(radius);
+  // Orbit about the part's longest axis, sweeping along it.
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (ext[k] > ext[axis]) axis = k;
+  const Vec3 e = Vec3::Unit(axis), e1 = Vec3::Unit((axis + 1) % 3), e2 = Vec3::Unit((axis + 2) % 3);
+  const double R = 0.5 * std::max(ext[(axis + 1) % 3], ext[(axis + 2) % 3]) + 1.6 * radius;
+  const double omega = 2.0 * k_pi / 2.0;
+  auto ball_motion = [&](double t) {
+    const double s = -0.45 + 0.9 * t / 2.0;
+    const Vec3 p = c + s * ext[axis] * e + R * (std::cos(omega * t) * e1 + std::sin(omega * t) * e2);
+    const Vec3 v = 0.45 * ext[axis] * e + R * omega * (-std::sin(omega * t) * e1 + std::cos(omega * t) * e2);
+    return Pose_and_twist{pose_of(p), twist(v, Vec3::Zero())};
+  };
+  const Audit_stats s = run_audited("screw.step / sphere", part, ball, at_rest, ball_motion, 2.0,
+                                    0.005);
+  EXPECT_LE(s.worst_relative, 1e-9);
+  EXPECT_EQ(s.below_lower_bound, 0);
+  EXPECT_GT(s.transitions, 0);
+  EXPECT_GE(s.faces_a.size(), 2u);
+}
+
+TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
+  // Two instances of the as1 assembly (../shared/data/SOURCES.md), the second lifted off the
+  // first and sliding over it: distances between real trimmed multi-face parts.
+  const io::Model m = io::read_model(shared_data("step/as1-oc-214-mat.stp"));
+  ASSERT_GE(m.bodies.size(), 2u);
+  // The two nearest distinct bodies with the most faces between them.
+  int ia = -1, ib = -1;
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < m.bodies.size(); ++i)
+    for (std::size_t j = i + 1; j < m.bodies.size(); ++j) {
+      const Body& x = m.bodies[i];
+      const Body& y = m.bodies[j];
+      if (x.faces.size() < 6 || y.faces.size() < 6) continue;
+      const double d = box_distance(transformed(x.hull_bbox(), x.placement),
+                                    transformed(y.hull_bbox(), y.placement));
+      if (d < best) best = d, ia = static_cast<int>(i), ib = static_cast<int>(j);
+    }
+  ASSERT_GE(ia, 0);
+  const Body& a = m.bodies[ia];
+  const Body& b = m.bodies[ib];
+  const Bbox_3 bb = b.trimmed_bbox(b.placement);
+  const double size = std::max({bb.xmax() - bb.xmin(), bb.ymax() - bb.ymin(), bb.zmax() - bb.zmin()});
+  // B lifted along the line between the bodies' centres, then sliding sideways and turning.
+  const Bbox_3 ab = a.trimmed_bbox(a.placement);
+  const Vec3 ca(0.5 * (ab.xmin() + ab.xmax()), 0.5 * (ab.ymin() + ab.ymax()), 0.5 * (ab.zmin() + ab.zmax()));
+  const Vec3 cb(0.5 * (bb.xmin() + bb.xmax()), 0.5 * (bb.ymin() + bb.ymax()), 0.5 * (bb.zmin() + bb.zmax()));
+  Vec3 away = cb - ca;
+  away = away.norm() > 0 ? Vec3(away.normalized()) : Vec3::UnitZ();
+  const Vec3 side = away.unitOrthogonal();
+  auto motion_a = [&](double) { return Pose_and_twist{a.placement, Twist_3{}}; };
+  auto motion_b = [&](double t) {
+    const Vec3 v = 0.2 * size * side;
+    const Vec3 w = 0.3 * away;
+    const Rigid_pose_3 X(Eigen::AngleAxisd(0.3 * t, away).toRotationMatrix(), 0.15 * size * away + v * t - 0.2 * size * side);
+    // Turn about B's centre: X_B = T(c + offset) R T(-c) placement.
+    const Rigid_pose_3 about(Mat3::Identity(), cb);
+    const Rigid_pose_3 back(Mat3::Identity(), -cb);
+    const Rigid_pose_3 pose = about * X * back * b.placement;
+    Twist_3 tw;
+    tw.angular = w;
+    tw.linear = v + w.cross(pose.translation() - (cb + X.translation()));
+    return Pose_and_twist{pose, tw};
+  };
+  const Audit_stats s = run_audited("as1 two parts", a, b, motion_a, motion_b, 2.0, 0.01, 1);
+  std::printf("[ case     ] as1 bodies '%s' (%zu faces) and '%s' (%zu faces)\n", a.name.c_str(),
+              a.faces.size(), b.name.c_str(), b.faces.size());
+  EXPECT_LE(s.worst_relative, 1e-9);
+  EXPECT_EQ(s.below_lower_bound, 0);
+}
+
+TEST(BodyScenes, MeshAgainstNurbsAndMeshAgainstMesh) {
+  // A triangle mesh (binary PLY cube, 12 triangles) against a moving NURBS sphere, and two
+  // meshes against each other: exact per triangle, audited by the global solver (which
+  // treats triangles as flat patches).
+  const io::Model cube = io::read_model(shared_data("mesh/cube_binary.ply"));
+  ASSERT_EQ(cube.bodies.size(), 1u);
+  const Body& mesh = cube.bodies[0];
+  ASSERT_EQ(mesh.mesh.triangles.size(), 12u);
+  const Bbox_3 box = mesh.hull_bbox();
+  const double size = box.xmax() - box.xmin();
+  const Body ball = make_sphere_body(0.3 * size);
+  auto ball_motion = [&](double t) {
+    const Vec3 p(box.xmin() - 0.5 * size + 2.0 * size * t / 2.0, 0.5 * (box.ymin() + box.ymax()) + 0.2 * size,
+                 box.zmax() + 0.4 * size);
+    return Pose_and_twist{pose_of(p), twist(Vec3(size, 0, 0), Vec3::Zero())};
+  };
+  const Audit_stats s1 = run_audited("cube mesh / sphere", mesh, ball, at_rest, ball_motion, 2.0, 0.01);
+  EXPECT_LE(s1.worst_relative, 1e-9);
+  EXPECT_GT(s1.transitions, 0);  // the nearest point crosses triangle edges
+  auto cube_motion = [&](double t) {
+    const Vec3 w(0.2, 0.5, 1.0);
+    const Vec3 p(0.4 * size * t, 0.3 * size, box.zmax() - box.zmin() + 0.3 * size);
+    return Pose_and_twist{pose_of(p, w, w.norm() * t), twist(Vec3(0.4 * size, 0, 0), w)};
+  };
+  const Audit_stats s2 = run_audited("cube mesh / cube mesh", mesh, mesh, at_rest, cube_motion, 2.0, 0.01);
+  EXPECT_LE(s2.worst_relative, 1e-9);
+}
+
+TEST(BodyScenes, TriangleDistanceClosedForms) {
+  const Vec3 a[3] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  // Parallel triangle above: distance 2.
+  const Vec3 b[3] = {Vec3(0.1, 0.1, 2), Vec3(0.2, 0.1, 2), Vec3(0.1, 0.2, 2)};
+  EXPECT_NEAR(triangle_distance(a, b).distance, 2.0, 1e-15);
+  // Edge to edge, skew: segments x in [0, 1] at y = z = 0 and a segment along y at x = 0.5,
+  // z = 1, beyond the hypotenuse side.
+  const Vec3 c[3] = {Vec3(0.5, -1, -1), Vec3(0.5, -1, 1), Vec3(0.5, -2, 0)};
+  EXPECT_NEAR(triangle_distance(a, c).distance, 1.0, 1e-15);
+  // Crossing triangles meet.
+  const Vec3 d[3] = {Vec3(0.2, 0.2, -1), Vec3(0.2, 0.2, 1), Vec3(0.3, 0.3, 1)};
+  EXPECT_EQ(triangle_distance(a, d).distance, 0.0);
+}
+
+TEST(BodyScenes, SceneStepperThreadsGiveBitIdenticalReports) {
+  const Nurbs_surface_3 torus = make_torus(2.0, 0.8);
+  const double hu = 0.5 * (torus.u_min() + torus.u_max()), hv = 0.5 * (torus.v_min() + torus.v_max());
+  std::vector<Body> bodies;
+  bodies.push_back(multi_patch(torus, "torus", {hu}, {hv}));
+  bodies.push_back(make_sphere_body(0.5, "s1"));
+  bodies.push_back(make_ellipsoid_body(0.6, 0.4, 0.3, "e"));
+  bodies.push_back(make_sphere_body(0.4, "s2"));
+  std::vector<Motion> motions;
+  motions.push_back(Motion::twist(Rigid_pose_3(), twist(Vec3::Zero(), Vec3(0, 0, 0.5)), 0.0));
+  motions.push_back(Motion::twist(pose_of(Vec3(0.3, 0.1, -3)), twist(Vec3(0, 0, 2), Vec3::Zero()), 0.0));
+  motions.push_back(Motion::twist(pose_of(Vec3(3.5, 0, 0)), twist(Vec3(0, 0.5, 0.1), Vec3::Zero()), 0.0));
+  motions.push_back(Motion::twist(pose_of(Vec3(-3.5, 0.5, 0.5)), twist(Vec3(0.1, -0.5, 0), Vec3::Zero()), 0.0));
+  std::vector<Scene_stepper_body> sb;
+  for (int i = 0; i < 4; ++i) sb.push_back({&bodies[i], &motions[i]});
+  const std::vector<std::pair<int, int>> pairs{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {2, 3}};
+  Scene_stepper one(sb, pairs, Body_pair_options{});
+  Scene_stepper four(sb, pairs, Body_pair_options{}, Scene_stepper_options{4});
+  EXPECT_EQ(four.threads(), 4);
+  for (int i = 0; i < 200; ++i) {
+    const auto r1 = one.step(i * 0.01, 0.01);
+    const auto& r4 = four.step(i * 0.01, 0.01);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      ASSERT_EQ(r1[k].distance, r4[k].distance) << "pair " << k << " step " << i;
+      ASSERT_EQ(r1[k].point_a, r4[k].point_a);
+      ASSERT_EQ(r1[k].feature_a, r4[k].feature_a);
+    }
+  }
+  EXPECT_THROW(one.set_threads(0), Precondition_violation);
+}
+
+TEST(BodyScenes, SteadyTrackingAllocatesNothing) {
+  // A sphere circling over the 16-patch sheet: after one lap (candidate pairs seeded, buffers
+  // grown), the second lap steps, hands over and prunes without touching the heap.
+  const int n = 7;
+  std::vector<Point_3> poles;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      poles.emplace_back(i * 1.0, j * 1.0, 0.6 * std::sin(1.3 * i) * std::cos(0.9 * j));
+  const Body a = multi_patch(make_freeform(3, 3, n, n, poles), "sheet", {0.25, 0.5, 0.75},
+                             {0.25, 0.5, 0.75});
+  const Body b = make_sphere_body(0.4);
+  Body_pair_tracker tracker(a, b);
+  const double w = 2.0 * k_pi;  // one lap per second
+  auto step = [&](int i) {
+    const double t = i * 1e-3;
+    const Vec3 p(3 + 2 * std::cos(w * t), 3 + 2 * std::sin(w * t), 1.3);
+    const Vec3 v(-2 * w * std::sin(w * t), 2 * w * std::cos(w * t), 0);
+    return tracker.step(t, Rigid_pose_3(), Twist_3{}, pose_of(p), twist(v, Vec3::Zero()), 1e-3);
+  };
+  long transitions_before = 0;
+  for (int i = 0; i < 1000; ++i) transitions_before = step(i).transitions;
+  const long before = extremal::test::g_allocations.load();
+  for (int i = 1000; i < 2000; ++i) (void)step(i);
+  const long allocations = extremal::test::g_allocations.load() - before;
+  const Pair_report& r = step(2000);
+  EXPECT_EQ(allocations, 0);
+  EXPECT_GT(r.transitions, transitions_before);  // it did hand over during the counted lap
+}
