@@ -287,6 +287,45 @@ void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   ++m_report.seeds;
 }
 
+void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                      double best) {
+  bool seeded = false;
+  for (std::size_t c = 0; c < m_candidates.size(); ++c) {
+    const int pa = key_a(m_candidates[c]), pb = key_b(m_candidates[c]);
+    bool tracked = false;
+    for (const Live& L : m_live)
+      if (L.alive && L.pa == pa && L.pb == pb) tracked = true;
+    if (tracked) continue;
+    const Primitive& A = m_model_a->primitives()[pa];
+    const Primitive& B = m_model_b->primitives()[pb];
+    if (A.global_element < 0 || B.global_element < 0 || closed_form_pair(A, B)) continue;
+    const double tol = std::max(m_options.global.absolute_tolerance,
+                                m_options.global.relative_tolerance * best);
+    if (box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)) >= best - tol) continue;
+    Distance_request request = m_options.global;
+    request.cutoff = best - tol;
+    const Distance_result g =
+        extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
+                                  m_model_b->hierarchy(), X_WB, B.global_element, request,
+                                  m_workspace);
+    if (g.element_a < 0 || g.element_b < 0) continue;
+    Vec4 params = Vec4::Zero();
+    params_from_global(A, g.params_a, params.data());
+    params_from_global(B, g.params_b, params.data() + A.feature.dimension());
+    add_live(pa, pb, params);
+    ++m_report.seeds;
+    seeded = true;
+  }
+  if (seeded) {
+    for (std::size_t k = 0; k < m_live.size(); ++k)
+      if (m_live[k].alive && m_live[k].stepped != m_steps) {
+        step_live(static_cast<int>(k));
+        for (int hop = 0; hop < 3 && transition(static_cast<int>(k)); ++hop) {
+        }
+      }
+  }
+}
+
 void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                     double reach) {
   const Tracking_model& A = *m_model_a;
@@ -713,7 +752,11 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       step_all();
     }
   }
-  // 3. Lost everything (all witnesses off the bodies): the certified solver re-seeds.
+  // 3. Candidate pairs whose tracker moved on (a transition or a merge) may hold a new basin
+  //    closer than the tracked minimum: the certified solver on the pair, cut off at it, says
+  //    so at little cost when they do not.
+  if (std::isfinite(best) && best > m_options.contact_tolerance) check_vacated(X_WA, X_WB, best);
+  // 4. Lost everything (all witnesses off the bodies): the certified solver re-seeds.
   if (!std::isfinite(best)) {
     if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
     step_all();

@@ -121,6 +121,8 @@ class Body_pair_tracker {
   // tolerance. Returns true if it seeded.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
   void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
+  // Seeds candidate pairs without a tracker that hold a pair closer than `best`.
+  void check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
   // A tracker (or closed form) on primitive pair (pa, pb) from parameters at time t; returns
   // its slot.
   int add_live(int pa, int pb, const Vec4& params);

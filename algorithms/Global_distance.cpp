@@ -1088,6 +1088,7 @@ Distance_result Solver::run() {
   m_resolution = 16.0 * std::numeric_limits<double>::epsilon() * std::max(coord, 1e-300);
 
   Distance_result result;
+  if (m_req.cutoff < HUGE_VAL && m_req.cutoff > m_resolution) m_best.distance = m_req.cutoff;  // no witness yet (ea = -1)
   auto& heap = m_scratch.heap;
   if (m_only[0] < 0) {
     const int ra = m_side[0].make_from_tree(0, 0);

@@ -39,6 +39,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -152,6 +153,11 @@ struct Distance_request {
   // Polish witness candidates with Newton's method (off: corner points only; the bounds stay
   // certified but converge slowly). For tests and benchmarks.
   bool newton_polish = true;
+  // Only witnesses closer than this are sought: pairs whose bound cannot beat it are pruned
+  // from the start, and when none does the result has no elements (element_a = -1) and
+  // upper_bound = cutoff. Infinity: no cutoff. (Checking whether a primitive pair holds
+  // anything closer than a tracked distance costs little when it does not.)
+  double cutoff = HUGE_VAL;
 };
 
 enum class Distance_status {

@@ -85,7 +85,6 @@ void BM_SheetAgainstGlidingEllipsoid(benchmark::State& state) {
     ++steps;
     ++i;
   }
-  state.PauseTiming();
   const double t = i * dt;
   const Pair_report& r = tracker.step(t, Rigid_pose_3(), Twist_3{}, glide.pose(t), glide.twist(t), dt);
   Distance_request req;
@@ -93,7 +92,6 @@ void BM_SheetAgainstGlidingEllipsoid(benchmark::State& state) {
   req.relative_tolerance = 1e-11;
   const Distance_result g = extremal_distance(tracker.model_a().hierarchy(), Rigid_pose_3(),
                                               tracker.model_b().hierarchy(), glide.pose(t), req);
-  state.ResumeTiming();
   state.counters["faces"] = static_cast<double>(sheet.faces.size());
   state.counters["candidates"] = candidates / std::max(steps, 1L);
   state.counters["trackers"] = trackers / std::max(steps, 1L);
