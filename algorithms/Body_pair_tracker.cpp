@@ -275,7 +275,7 @@ void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   if (A.global_element >= 0 && B.global_element >= 0) {
     const Distance_result g = extremal_distance_between(
         m_model_a->hierarchy(), X_WA, A.global_element, m_model_b->hierarchy(), X_WB,
-        B.global_element, m_options.global, m_workspace);
+        B.global_element, m_options.seeding, m_workspace);
     if (g.element_a < 0 || g.element_b < 0) return;  // nothing of the pair on the bodies
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
@@ -299,10 +299,10 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     const Primitive& A = m_model_a->primitives()[pa];
     const Primitive& B = m_model_b->primitives()[pb];
     if (A.global_element < 0 || B.global_element < 0 || closed_form_pair(A, B)) continue;
-    const double tol = std::max(m_options.global.absolute_tolerance,
-                                m_options.global.relative_tolerance * best);
+    const double tol = std::max(m_options.seeding.absolute_tolerance,
+                                m_options.seeding.relative_tolerance * best);
     if (box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)) >= best - tol) continue;
-    Distance_request request = m_options.global;
+    Distance_request request = m_options.seeding;
     request.cutoff = best - tol;
     const Distance_result g =
         extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,

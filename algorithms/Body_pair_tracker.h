@@ -72,6 +72,17 @@ struct Body_pair_options {
   // Steps between audits by the certified global solver (0 = never): when the global minimum
   // has moved to another feature pair, a tracker is seeded there.
   int audit_every = 0;
+  // The certified solver's request on one candidate primitive pair (seeding a new pair, and
+  // checking a pair whose tracker moved on for a closer basin): a start for the tracker, whose
+  // corrections converge it, so a looser tolerance and a small node budget bound the cost of
+  // pairs with a continuum of equal minima (parallel planar faces).
+  Distance_request seeding = [] {
+    Distance_request r;
+    r.absolute_tolerance = 1e-9;
+    r.relative_tolerance = 1e-9;
+    r.max_nodes = 3000;
+    return r;
+  }();
   // The certified solver's request for the start and the audits.
   Distance_request global = [] {
     Distance_request r;

@@ -6,6 +6,7 @@
 // tracked minimum against the certified global solver at its last step (counter `rel_error`).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -100,8 +101,28 @@ void BM_SheetAgainstGlidingEllipsoid(benchmark::State& state) {
   state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
 }
 
+// Peer in the same run: the certified global solver from scratch at the same poses (what a
+// step would cost without tracking), 1e-9 relative tolerance.
+void BM_SheetGlobalQueryPeer(benchmark::State& state) {
+  const int k = static_cast<int>(state.range(0));
+  const Body sheet = wavy_sheet(k);
+  const Body ellipsoid = make_ellipsoid_body(0.7, 0.5, 0.4);
+  const Distance_hierarchy ha(sheet), hb(ellipsoid);
+  Distance_workspace ws;
+  Distance_request req;
+  const Glide glide{0.5 * k, 0.5 * k};
+  long i = 4000;
+  for (auto _ : state) {
+    const double t = i * 1e-3;
+    benchmark::DoNotOptimize(extremal_distance(ha, Rigid_pose_3(), hb, glide.pose(t), req, ws));
+    ++i;
+  }
+  state.counters["faces"] = static_cast<double>(sheet.faces.size());
+}
+
 }  // namespace
 
+BENCHMARK(BM_SheetGlobalQueryPeer)->Arg(3)->Arg(10)->Arg(32)->Arg(100)->Unit(benchmark::kMicrosecond);
 // k = 3, 10, 32, 100: 9, 100, 1,024 and 10,000 faces.
 BENCHMARK(BM_SheetAgainstGlidingEllipsoid)->Arg(3)->Arg(10)->Arg(32)->Arg(100)->Unit(benchmark::kMicrosecond);
 
