@@ -590,6 +590,16 @@ bool Body_pair_tracker::transition(int k) {
       }
     }
     if (np < 0) continue;
+    // Just inside the new primitive's domain: a parameter held on a patch edge is left out of
+    // the tracker's corrections, so a handed-over point must not start on one.
+    {
+      const Feature& f = M.primitives()[np].feature;
+      for (int k = 0; k < f.dimension(); ++k) {
+        if (f.is_closed(k)) continue;
+        const double margin = 1e-9 * (f.upper(k) - f.lower(k));
+        nq[k] = std::clamp(nq[k], f.lower(k) + margin, f.upper(k) - margin);
+      }
+    }
     // Hand the tracker over: same other side, this side on the new primitive.
     const int npa = side == 0 ? np : L.pa;
     const int npb = side == 0 ? L.pb : np;
