@@ -93,7 +93,7 @@ TEST(DistanceFiles, BadFileIsExitOneNamingTheFile) {
   const Cli_run missing = run("distance /nonexistent/part.step sphere:1 --json");
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("/nonexistent/part.step"), std::string::npos) << missing.err;
-  const auto junk = std::filesystem::temp_directory_path() / "extremal_junk_model.step";
+  const auto junk = test::scratch_dir() / "extremal_junk_model.step";
   {
     std::ofstream f(junk);
     f << "ISO-10303-21;\nthis is not a step file\n";

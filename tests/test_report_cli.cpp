@@ -28,7 +28,7 @@ using test::Cli_run;
 Cli_run run(const std::string& args) { return test::run_cli(args); }
 
 std::string write_scene(const std::string& name, const std::string& json) {
-  const auto path = std::filesystem::temp_directory_path() / name;
+  const auto path = test::scratch_dir() / name;
   std::ofstream(path) << json;
   return path.string();
 }
@@ -61,7 +61,7 @@ std::string slurp(const std::string& path) {
 }
 
 std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / name).string();
+  return (test::scratch_dir() / name).string();
 }
 
 Vec3 cells_vec(const std::vector<std::string>& row, int first) {
@@ -330,7 +330,7 @@ TEST(ReportCli, KeyframeMotionTakesAnEllipsoidThroughAPlaneExactly) {
 
 TEST(ReportCli, TableMotionReproducesItsPoses) {
   // Rows t,x,y,z,qw,qx,qy,qz read relative to the scene's folder; between rows as keyframes.
-  const auto dir = std::filesystem::temp_directory_path() / "extremal_table_scene";
+  const auto dir = test::scratch_dir() / "extremal_table_scene";
   std::filesystem::create_directories(dir);
   const Eigen::Quaterniond q[3] = {
       Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vec3::UnitZ())),
@@ -509,7 +509,7 @@ TEST(ReportCli, ThresholdReportsAFartherPairOnce) {
 }
 
 TEST(ReportCli, SeveralScenesRunAsABatch) {
-  const auto dir = std::filesystem::temp_directory_path() / "extremal_batch";
+  const auto dir = test::scratch_dir() / "extremal_batch";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   auto scene = [&](const std::string& name, double gap) {
@@ -628,7 +628,7 @@ TEST(ReportCli, SchemaErrorsNameTheJsonPathAndTheReason) {
 }
 
 TEST(ReportCli, PoseTableErrorsNameTheFileAndLine) {
-  const auto dir = std::filesystem::temp_directory_path() / "extremal_table_errors";
+  const auto dir = test::scratch_dir() / "extremal_table_errors";
   std::filesystem::create_directories(dir);
   const std::string scene = (dir / "scene.json").string();
   std::ofstream(scene) << R"({"time": {"end": 1, "step": 0.1}, "bodies": [

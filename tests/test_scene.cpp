@@ -9,6 +9,7 @@
 #include "io/Scene.h"
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"
+#include "support/Cli_run.h"
 
 namespace extremal {
 namespace {
@@ -71,7 +72,7 @@ TEST(Scene, KeyframesInterpolateAndHoldOutside) {
 }
 
 TEST(Scene, TableMotionReadsPosesRelativeToTheScene) {
-  const auto dir = std::filesystem::temp_directory_path() / "extremal_scene_test";
+  const auto dir = test::scratch_dir() / "extremal_scene_test";
   std::filesystem::create_directories(dir);
   {
     std::ofstream f(dir / "poses.csv");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -16,13 +17,21 @@ struct Cli_run {
   std::string out, err;
 };
 
+// A scratch folder of this test process: concurrent test runs (ctest --parallel, or two
+// checkouts testing at once) never write each other's files.
+inline std::filesystem::path scratch_dir() {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("extremal-tests-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 inline Cli_run run_cli(const std::string& args) {
   const std::string binary = std::string(EXTREMAL_BINARY_DIR) + "/cli/extremal";
   // One capture pair per process, so tests running in parallel do not share files.
-  const auto dir = std::filesystem::temp_directory_path();
-  const std::string tag = std::to_string(::getpid());
-  const std::string out = (dir / ("extremal_cli_out_" + tag + ".txt")).string();
-  const std::string err = (dir / ("extremal_cli_err_" + tag + ".txt")).string();
+  const auto dir = scratch_dir();
+  const std::string out = (dir / "extremal_cli_out.txt").string();
+  const std::string err = (dir / "extremal_cli_err.txt").string();
   const int status = std::system((binary + " " + args + " >" + out + " 2>" + err).c_str());
   auto slurp = [](const std::string& p) {
     std::ifstream f(p);
