@@ -88,6 +88,10 @@ class Obj_parser {
   }
   std::vector<double> knots_for(const Element& e, bool u, int degree, int n_ctrl,
                                 std::string& error) const;
+  // The curve of a curv or curv2 statement: knots from its parm u, control points from `list`
+  // (v for curv, lengths times m_scale; vp for curv2, in parameter space: z = 0, unscaled).
+  Nurbs_curve_3 curve_of(const Element& e, const std::vector<Vertex4>& list,
+                         bool parameter_space) const;
   void build_curv(const Element& e);
   void build_curv2(const Element& e);
   void build_surf(Element& e);
@@ -387,39 +391,32 @@ Nurbs_surface_3 sub_surface(const Nurbs_surface_3& s, double u0, double u1, doub
   return r;
 }
 
-void Obj_parser::build_curv(const Element& e) {
+Nurbs_curve_3 Obj_parser::curve_of(const Element& e, const std::vector<Vertex4>& list,
+                                   bool parameter_space) const {
   const int n = static_cast<int>(e.refs.size());
   std::string err;
   std::vector<double> k = knots_for(e, true, e.deg_u, n, err);
   if (!err.empty()) throw Invalid_input(err);
+  const double scale = parameter_space ? 1.0 : m_scale;
   std::vector<Point_3> poles;
   std::vector<double> w;
   for (long r : e.refs) {
-    const Vertex4& v = m_v[r];
-    poles.emplace_back(v.x * m_scale, v.y * m_scale, v.z * m_scale);
+    const Vertex4& v = list[r];
+    poles.emplace_back(v.x * scale, v.y * scale, parameter_space ? 0.0 : v.z * scale);
     w.push_back(e.rational ? v.w : 1.0);
   }
-  Nurbs_curve_3 c(e.deg_u, std::move(poles), std::move(k), std::move(w));
+  return Nurbs_curve_3(e.deg_u, std::move(poles), std::move(k), std::move(w));
+}
+
+void Obj_parser::build_curv(const Element& e) {
+  const Nurbs_curve_3 c = curve_of(e, m_v, false);
   const double a = std::max(std::min(e.s0, e.s1), c.domain_min());
   const double b = std::min(std::max(e.s0, e.s1), c.domain_max());
   if (!(a < b)) throw Invalid_input("curve range [u0, u1] lies outside the knot domain");
   m_curves.push_back(sub_curve(c, a, b));
 }
 
-void Obj_parser::build_curv2(const Element& e) {
-  const int n = static_cast<int>(e.refs.size());
-  std::string err;
-  std::vector<double> k = knots_for(e, true, e.deg_u, n, err);
-  if (!err.empty()) throw Invalid_input(err);
-  std::vector<Point_3> poles;
-  std::vector<double> w;
-  for (long r : e.refs) {
-    const Vertex4& v = m_vp[r];
-    poles.emplace_back(v.x, v.y, 0.0);
-    w.push_back(e.rational ? v.w : 1.0);
-  }
-  m_curv2.back() = Nurbs_curve_3(e.deg_u, std::move(poles), std::move(k), std::move(w));
-}
+void Obj_parser::build_curv2(const Element& e) { m_curv2.back() = curve_of(e, m_vp, true); }
 
 void Obj_parser::build_surf(Element& e) {
   if (e.deg_v < 1) throw Invalid_input("surface needs two degrees ('deg du dv')");
