@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Set up, build, and run the whole test suite.
+# Set up, build (warnings are errors: the tree builds clean with -Wall -Wextra -Wpedantic), and
+# run the whole test suite.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/build.sh"
+"$root/scripts/build.sh" -DEXTREMAL_WERROR=ON
 ctest --test-dir "$root/build" --output-on-failure --parallel "$(nproc)"
