@@ -350,10 +350,8 @@ Stress_result c0_cylinder(Stress_length length) {
                  Mat3::Identity(), Vec3(0.3, 0.2, -0.5), Vec3::Zero()};
   r.tolerance = 1e-9;
   r.lost_threshold = 1e-4;
-  r.known_issue =
-      "Body_pair_tracker takes the minimum over its feature-pair trackers, and the tracker of the "
-      "far cap reports a stationary pair through the body (d against the cap's outward normal at "
-      "an interior point) as penetration: -2.30 against +0.30 at t = 1.702";
+  // Once failed: the far cap's tracker reported a pair through the body as penetration
+  // (-2.30 against +0.30 at t = 1.702); penetration now counts only when reached through contact.
   run_pair(r, cyl, ball, still(), mb,
            [rs](double, const Placement&, const Placement& pb) {
              return point_to_cylinder(pb.pose.translation(), 1.0, 2.0) - rs;
@@ -414,10 +412,8 @@ Stress_result g1_capsule(Stress_length length) {
                  Mat3::Identity(), Vec3(-0.4, 0.2, 0.6), Vec3::Zero()};
   r.tolerance = 1e-9;
   r.lost_threshold = 1e-4;
-  r.known_issue =
-      "no patch transition on main: the one tracker, seeded on the upper hemisphere, stays on "
-      "its edge (the G1 join) while the nearest point moves onto the cylinder side (error "
-      "grows from t = 0.981)";
+  // Once failed: with no patch transitions the tracker stayed on the G1 join while the nearest
+  // point moved onto the cylinder side (from t = 0.981).
   run_pair(r, cap, ball, still(), mb,
            [rs](double, const Placement&, const Placement& pb) {
              return point_to_axis_segment(pb.pose.translation(), 2.0) - 1.0 - rs;
