@@ -197,6 +197,10 @@ void Tracking_model::add_brep_edges() {
     m_primitives.push_back(p);
   }
   // Faces' edge lists (CSR).
+  link_faces_to_edges(face_edge);
+}
+
+void Tracking_model::link_faces_to_edges(std::vector<std::pair<int, int>>& face_edge) {
   std::sort(face_edge.begin(), face_edge.end());
   face_edge.erase(std::unique(face_edge.begin(), face_edge.end()), face_edge.end());
   for (std::size_t i = 0; i < face_edge.size();) {
@@ -216,7 +220,6 @@ void Tracking_model::add_mesh() {
   m_has_mesh = true;
   const int nv = static_cast<int>(mesh.vertices.size());
   m_triangle_primitive.assign(mesh.triangles.size(), -1);
-  const int first_triangle = static_cast<int>(m_primitives.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     for (int k : tri)
@@ -296,17 +299,7 @@ void Tracking_model::add_mesh() {
     m_primitives.push_back(p);
     i = j;
   }
-  std::sort(face_edge.begin(), face_edge.end());
-  for (std::size_t i = 0; i < face_edge.size();) {
-    Primitive& f = m_primitives[face_edge[i].first];
-    f.first_link = static_cast<int>(m_face_edges.size());
-    std::size_t j = i;
-    for (; j < face_edge.size() && face_edge[j].first == face_edge[i].first; ++j)
-      m_face_edges.push_back(face_edge[j].second);
-    f.link_count = static_cast<int>(j - i);
-    i = j;
-  }
-  (void)first_triangle;
+  link_faces_to_edges(face_edge);
 }
 
 void Tracking_model::match_patch_sides() {

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "algorithms/Feature.h"
@@ -101,6 +102,8 @@ class Tracking_model {
   void add_mesh();
   void match_patch_sides();
   void build_tree();
+  // Sorts (face primitive, edge primitive) links and stores them per face (CSR).
+  void link_faces_to_edges(std::vector<std::pair<int, int>>& face_edge);
 
   const Body& m_body;
   Distance_hierarchy m_hierarchy;
