@@ -51,7 +51,7 @@ double project_on_side(const Nurbs_surface_3& f, int side, const Vec3& p, double
   Surface_point sp;
   double q[2];
   for (int i = 0; i <= 16; ++i) {
-    const double s = lo + (hi - lo) * i / 16.0;
+    const double s = std::min(lo + (hi - lo) * i / 16.0, hi);  // the sum can round past hi
     side_params(f, side, s, q);
     f.evaluate(q[0], q[1], sp, 0);
     const double d = (sp.p - p).squaredNorm();
@@ -82,7 +82,7 @@ double project_on_curve(const Nurbs_curve_3& c, const Vec3& p, double& dist) {
   double best_t = lo, best = std::numeric_limits<double>::infinity();
   Curve_point cp;
   for (int i = 0; i <= 16; ++i) {
-    const double t = lo + (hi - lo) * i / 16.0;
+    const double t = std::min(lo + (hi - lo) * i / 16.0, hi);  // the sum can round past hi
     c.evaluate(t, cp, 0);
     const double d = (cp.p - p).squaredNorm();
     if (d < best) best = d, best_t = t;
@@ -325,7 +325,10 @@ void Tracking_model::match_patch_sides() {
       Bbox_3 box;
       double q[2];
       for (int k = 0; k <= 8; ++k) {
-        side_params(f, side, side_lo(f, side) + (side_hi(f, side) - side_lo(f, side)) * k / 8.0, q);
+        side_params(f, side,
+                    std::min(side_lo(f, side) + (side_hi(f, side) - side_lo(f, side)) * k / 8.0,
+                             side_hi(f, side)),
+                    q);
         f.evaluate(q[0], q[1], sp, 0);
         box += Bbox_3(sp.p.x() - tol, sp.p.y() - tol, sp.p.z() - tol, sp.p.x() + tol,
                       sp.p.y() + tol, sp.p.z() + tol);
@@ -351,7 +354,9 @@ void Tracking_model::match_patch_sides() {
     double q[2];
     for (int k = 0; k <= 6; ++k) {
       side_params(f, from.side,
-                  side_lo(f, from.side) + (side_hi(f, from.side) - side_lo(f, from.side)) * k / 6.0, q);
+                  std::min(side_lo(f, from.side) + (side_hi(f, from.side) - side_lo(f, from.side)) * k / 6.0,
+                           side_hi(f, from.side)),
+                  q);
       f.evaluate(q[0], q[1], sp, 0);
       double dist;
       project_on_side(g, to.side, sp.p, dist);

@@ -265,6 +265,22 @@ TEST(BodyScenes, StepPartAgainstAMovingSphere) {
   EXPECT_GE(s.faces_a.size(), 2u);
 }
 
+TEST(BodyScenes, EveryStepFileOfTheSharedDataGivesATrackingModel) {
+  // Building a body's tracking model projects edge ends onto faces and samples patch sides
+  // over whole parameter ranges: it must work on every real part, with a primitive per face.
+  for (const char* file : {"step/linkrods.step", "step/screw.step", "step/as1-oc-214-mat.stp",
+                           "step/bug27693_cornetta-step.stp", "step/ec_turbine-A.stp",
+                           "step/pr2ct.stp", "step/bug24283_spheres.stp"}) {
+    const io::Model m = io::read_model(shared_data(file));
+    ASSERT_FALSE(m.bodies.empty()) << file;
+    for (const Body& body : m.bodies) {
+      SCOPED_TRACE(std::string(file) + " " + body.source_name);
+      const Tracking_model model(body);
+      EXPECT_GE(static_cast<int>(model.primitives().size()), static_cast<int>(body.faces.size()));
+    }
+  }
+}
+
 TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
   // Two instances of the as1 assembly (../shared/data/SOURCES.md), the second lifted off the
   // first and sliding over it: distances between real trimmed multi-face parts.
