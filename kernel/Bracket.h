@@ -1,5 +1,5 @@
 // A generated non-convex CAD part with a full B-rep: a U-shaped channel bracket, the part of the
-// bundled demo (data/demo/bracket.step is this body written by io/Step_writer).
+// bundled demo (the build writes this body as data/demo/bracket.step through io/Step_writer).
 //
 // The profile in the xz-plane is a block [-w/2, w/2] x [0, h] with a slot of width s cut down to
 // the floor at z = f; the slot's bottom corners are filleted (radius r, concave quarter

@@ -1,7 +1,7 @@
 // Writes the demo's generated part (kernel/Bracket.h) as STEP through io/Step_writer.h:
-//   build/bench/write_demo_part data/demo/bracket.step
-// data/demo/bracket.step is this program's output, committed; test_step_writer checks that it
-// still equals what the generator writes, so a change of the generator or the writer shows.
+//   build/cli/write_demo_part data/demo/bracket.step
+// The build runs it (target demo_part, cli/CMakeLists.txt): the file is generated, not kept in
+// git. test_step_writer checks that the file on disk is what the generator writes now.
 #include <iostream>
 
 #include "io/Step_writer.h"
