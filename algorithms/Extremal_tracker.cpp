@@ -208,13 +208,11 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     // A parameter held on a patch edge keeps its projection error (the reduced problem is
     // solved without it); counting it ran every correction on every step of an edge pair.
     Vec4 errors = normalised_projection_errors(m_system).cwiseAbs();
-    Vec4 probe = m_params;
-    const unsigned edges = edge_mask(probe);
+    const unsigned edges = edge_mask(m_params);
     for (int k = 0; k < 4; ++k)
       if (edges & (1u << k)) errors[k] = 0.0;
     if (errors.maxCoeff() <= m_options.correction_tolerance) break;
-    const bool minimum =
-        m_system.form == Formulation::Projection && signed_distance(edge_mask(m_params)) >= 0.0;
+    const bool minimum = m_system.form == Formulation::Projection && signed_distance(edges) >= 0.0;
     const double before = merit(minimum);
     Vec4 U;
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);

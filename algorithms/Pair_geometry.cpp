@@ -159,16 +159,6 @@ void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
 Vec4 normalised_projection_errors(const Pair_system& s) {
   Vec4 e = Vec4::Zero();
   const double dist = s.d.norm();
-  if (s.na == 2 && s.nb == 2) {  // the loop below with each tangent's length taken once
-    const double n2[4] = {s.a.d[0].squaredNorm(), s.a.d[1].squaredNorm(),
-                          s.b.d[0].squaredNorm(), s.b.d[1].squaredNorm()};
-    for (int k = 0; k < 4; ++k) {
-      if (n2[k] <= 1e-16 * n2[k ^ 1]) continue;
-      const double denom = dist * std::sqrt(n2[k]);
-      e[k] = denom > 0.0 ? s.projection[k] / denom : 0.0;
-    }
-    return e;
-  }
   for (int k = 0; k < s.size(); ++k) {
     // A tangent that vanishes (a pole) carries no condition: its error is rounding noise.
     const Vec3& other = k < s.na ? s.a.d[s.na - 1 - k] : s.b.d[s.nb - 1 - (k - s.na)];

@@ -16,17 +16,6 @@ namespace {
 const char* const k_colours[] = {"#1f77b4", "#2ca02c", "#9467bd", "#8c564b",
                                  "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
 
 std::string fmt(double v) {
   char buf[32];
@@ -150,12 +139,12 @@ std::string Svg_plot::to_svg() const {
        << (log_y ? "1e" + fmt(v) : fmt(v)) << "</text>\n";
   os << "</g>\n";
   os << "<text x=\"" << left + pw / 2 << "\" y=\"" << height - 18
-     << "\" font-size=\"14\" text-anchor=\"middle\">" << escape(x_label) << "</text>\n";
+     << "\" font-size=\"14\" text-anchor=\"middle\">" << xml_escape(x_label) << "</text>\n";
   os << "<text x=\"22\" y=\"" << top + ph / 2
      << "\" font-size=\"14\" text-anchor=\"middle\" transform=\"rotate(-90 22 " << top + ph / 2
-     << ")\">" << escape(y_label) << "</text>\n";
+     << ")\">" << xml_escape(y_label) << "</text>\n";
   os << "<text x=\"" << left + pw / 2 << "\" y=\"26\" font-size=\"16\" text-anchor=\"middle\">"
-     << escape(title) << "</text>\n";
+     << xml_escape(title) << "</text>\n";
 
   // Everything inside the plot area is clipped to it.
   os << "<clipPath id=\"area\"><rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw
@@ -167,7 +156,7 @@ std::string Svg_plot::to_svg() const {
        << fmt(y) << "\" stroke=\"#444444\" stroke-width=\"1\" stroke-dasharray=\"6 4\"/>\n";
     if (!r.label.empty())
       os << "<text x=\"" << left + pw - 6 << "\" y=\"" << fmt(y - 5)
-         << "\" font-size=\"11\" fill=\"#444444\" text-anchor=\"end\">" << escape(r.label)
+         << "\" font-size=\"11\" fill=\"#444444\" text-anchor=\"end\">" << xml_escape(r.label)
          << "</text>\n";
   }
   for (std::size_t k = 0; k < series.size(); ++k) {
@@ -243,7 +232,7 @@ std::string Svg_plot::to_svg() const {
       os << "<circle cx=\"" << lx + 12 << "\" cy=\"" << ly << "\" r=\"4\" fill=\"" << e.colour
          << "\"/>\n";
     os << "<text x=\"" << lx + 32 << "\" y=\"" << ly + 4 << "\" font-size=\"12\">"
-       << escape(e.label) << "</text>\n";
+       << xml_escape(e.label) << "</text>\n";
   }
   os << "</svg>\n";
   return os.str();
@@ -254,6 +243,18 @@ void Svg_plot::write(const std::string& path) const {
   if (!f) throw Invalid_input(path + ": cannot open for writing");
   f << to_svg();
   if (!f) throw Invalid_input(path + ": write failed");
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
 }
 
 }  // namespace extremal::io

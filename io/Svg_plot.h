@@ -49,4 +49,7 @@ struct Svg_plot {
 // The palette's k-th colour.
 const char* plot_colour(std::size_t k);
 
+// `text` with the characters XML gives a meaning (< > & ") written as entities.
+std::string xml_escape(const std::string& text);
+
 }  // namespace extremal::io

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/Svg_plot.h"
+
 namespace extremal::bench {
 
 namespace {
@@ -14,16 +16,6 @@ const char* const k_colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9
                                  "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
 const char* const k_markers[] = {"circle", "square", "diamond", "triangle"};
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
 }  // namespace
 
 std::string Loglog_plot::to_svg() const {
@@ -51,7 +43,7 @@ std::string Loglog_plot::to_svg() const {
      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" "
         "fill=\"white\"/>\n";
   os << "<text x=\"10\" y=\"25\" font-size=\"15\">"
-     << escape(title) << "</text>\n";
+     << io::xml_escape(title) << "</text>\n";
   for (int e = static_cast<int>(x0); e <= static_cast<int>(x1); ++e) {
     const double x = left + pw * (e - x0) / (x1 - x0);
     os << "<line x1=\"" << x << "\" y1=\"" << top << "\" x2=\"" << x << "\" y2=\"" << top + ph
@@ -67,9 +59,9 @@ std::string Loglog_plot::to_svg() const {
   os << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
      << "\" fill=\"none\" stroke=\"black\"/>\n";
   os << "<text x=\"" << left + pw / 2 << "\" y=\"" << height - 20
-     << "\" text-anchor=\"middle\">" << escape(x_label) << "</text>\n";
+     << "\" text-anchor=\"middle\">" << io::xml_escape(x_label) << "</text>\n";
   os << "<text transform=\"translate(22," << top + ph / 2
-     << ") rotate(-90)\" text-anchor=\"middle\">" << escape(y_label) << "</text>\n";
+     << ") rotate(-90)\" text-anchor=\"middle\">" << io::xml_escape(y_label) << "</text>\n";
   auto marker = [&](int k, double x, double y, const char* colour) {
     std::ostringstream m;
     const std::string kind = k_markers[k % 4];
@@ -100,12 +92,12 @@ std::string Loglog_plot::to_svg() const {
       os << marker(static_cast<int>(k / 10 + k), X(s.x[i]), Y(s.y[i]), colour) << "\n";
       if (i < s.point_labels.size() && !s.point_labels[i].empty())
         os << "<text x=\"" << X(s.x[i]) + 7 << "\" y=\"" << Y(s.y[i]) - 5
-           << "\" font-size=\"10\" fill=\"" << colour << "\">" << escape(s.point_labels[i])
+           << "\" font-size=\"10\" fill=\"" << colour << "\">" << io::xml_escape(s.point_labels[i])
            << "</text>\n";
     }
     const double ly = top + 10 + 20.0 * k, lx = left + pw + 20;
     os << marker(static_cast<int>(k / 10 + k), lx, ly, colour) << "<text x=\"" << lx + 12
-       << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";
+       << "\" y=\"" << ly + 4 << "\">" << io::xml_escape(s.label) << "</text>\n";
   }
   os << "</svg>\n";
   return os.str();
