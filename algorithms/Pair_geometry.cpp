@@ -159,12 +159,15 @@ void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
 Vec4 normalised_projection_errors(const Pair_system& s) {
   Vec4 e = Vec4::Zero();
   const double dist = s.d.norm();
-  for (int k = 0; k < s.size(); ++k) {
+  const int n = s.size();
+  double len2[4];  // each tangent's squared length, taken once
+  for (int k = 0; k < n; ++k) len2[k] = s.tangent(k).squaredNorm();
+  for (int k = 0; k < n; ++k) {
     // A tangent that vanishes (a pole) carries no condition: its error is rounding noise.
-    const Vec3& other = k < s.na ? s.a.d[s.na - 1 - k] : s.b.d[s.nb - 1 - (k - s.na)];
-    const double len2 = s.tangent(k).squaredNorm();
-    if (len2 <= 1e-16 * other.squaredNorm()) continue;  // |t_k| <= 1e-8 |t_other|
-    const double denom = dist * std::sqrt(len2);
+    // It is compared with the other tangent of its side (itself on a curve).
+    const int other = k < s.na ? s.na - 1 - k : s.na + (s.nb - 1 - (k - s.na));
+    if (len2[k] <= 1e-16 * len2[other]) continue;  // |t_k| <= 1e-8 |t_other|
+    const double denom = dist * std::sqrt(len2[k]);
     e[k] = denom > 0.0 ? s.projection[k] / denom : 0.0;
   }
   return e;
