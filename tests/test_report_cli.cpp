@@ -684,9 +684,13 @@ TEST(ReportCli, ProgressBarLine) {
   EXPECT_EQ(cli::Progress_bar::render("demo.json", 1000, 1000, 8.0, 10),
             "demo.json [##########] 100% 1000/1000 steps");
   // Not a terminal (as under ctest): never draws, whatever the run's length.
-  cli::Progress_bar bar(true, "x", 10);
-  bar.update(5);
-  bar.finish();
+  ::testing::internal::CaptureStderr();
+  {
+    cli::Progress_bar bar(true, "x", 10);
+    bar.update(5);
+    bar.finish();
+  }
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
 }
 
 TEST(ReportCli, SnapshotWritesGlbAtTheNearestStep) {
