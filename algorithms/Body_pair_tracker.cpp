@@ -291,11 +291,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                                       double best) {
   bool seeded = false;
   for (std::size_t c = 0; c < m_candidates.size(); ++c) {
+    if (tracks(m_candidates[c])) continue;
     const int pa = key_a(m_candidates[c]), pb = key_b(m_candidates[c]);
-    bool tracked = false;
-    for (const Live& L : m_live)
-      if (L.alive && L.pa == pa && L.pb == pb) tracked = true;
-    if (tracked) continue;
     const Primitive& A = m_model_a->primitives()[pa];
     const Primitive& B = m_model_b->primitives()[pb];
     if (A.global_element < 0 || B.global_element < 0 || closed_form_pair(A, B)) continue;
@@ -316,14 +313,22 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     ++m_report.seeds;
     seeded = true;
   }
-  if (seeded) {
-    for (std::size_t k = 0; k < m_live.size(); ++k)
-      if (m_live[k].alive && m_live[k].stepped != m_steps) {
-        step_live(static_cast<int>(k));
-        for (int hop = 0; hop < 3 && transition(static_cast<int>(k)); ++hop) {
-        }
-      }
+  if (seeded) step_pending();
+}
+
+void Body_pair_tracker::step_pending() {
+  for (std::size_t k = 0; k < m_live.size(); ++k) {
+    if (!m_live[k].alive || m_live[k].stepped == m_steps) continue;
+    step_live(static_cast<int>(k));
+    for (int hop = 0; hop < 3 && transition(static_cast<int>(k)); ++hop) {
+    }
   }
+}
+
+bool Body_pair_tracker::tracks(std::uint64_t key) const {
+  for (const Live& L : m_live)
+    if (L.alive && pair_key(L.pa, L.pb) == key) return true;
+  return false;
 }
 
 void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -376,10 +381,8 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       drop(m_candidates[i++]);
     } else if (i == m_candidates.size() || m_next_candidates[j] < m_candidates[i]) {
       const std::uint64_t key = m_next_candidates[j++];
-      bool tracked = false;  // a tracker may have arrived by a transition
-      for (const Live& L : m_live)
-        if (L.alive && pair_key(L.pa, L.pb) == key) tracked = true;
-      if (!tracked) seed_pair(key_a(key), key_b(key), X_WA, X_WB);
+      // A tracker may have arrived by a transition.
+      if (!tracks(key)) seed_pair(key_a(key), key_b(key), X_WA, X_WB);
     } else {
       ++i;
       ++j;
@@ -743,12 +746,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   // 1. Step the live trackers at t; hand the ones that left their primitive across.
   double best = std::numeric_limits<double>::infinity();
   auto step_all = [&] {
-    for (std::size_t k = 0; k < m_live.size(); ++k) {
-      if (!m_live[k].alive || m_live[k].stepped == m_steps) continue;
-      step_live(static_cast<int>(k));
-      for (int hop = 0; hop < 3 && transition(static_cast<int>(k)); ++hop) {
-      }
-    }
+    step_pending();
     for (const Live& L : m_live)
       if (L.alive && L.valid) best = std::min(best, L.result.distance);
   };

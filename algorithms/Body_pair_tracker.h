@@ -141,6 +141,10 @@ class Body_pair_tracker {
   void seed_pair(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Steps slot k at time t (evaluates the closed form), setting its validity.
   void step_live(int k);
+  // Steps every live slot not yet stepped at this step, with up to three hand-overs each.
+  void step_pending();
+  // True when a live slot tracks primitive pair `key` (see pair_key).
+  bool tracks(std::uint64_t key) const;
   // Replaces a seed on a patch side by an interior pair at the same distance, if there is one.
   void prefer_central(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                       Vec4& params) const;
