@@ -71,16 +71,16 @@ void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* 
     }
     case Feature::Kind::Surface: {
       Surface_point sp;
-      f.surface()->evaluate(params[0], params[1], sp, order);
-      out.p = X_WA.apply_point(sp.p);
+      f.surface()->evaluate_placed(params[0], params[1], R, X_WA.translation(), sp, order);
+      out.p = sp.p;
       if (order >= 1) {
-        out.d[0] = R * sp.du;
-        out.d[1] = R * sp.dv;
+        out.d[0] = sp.du;
+        out.d[1] = sp.dv;
       }
       if (order >= 2) {
-        out.dd[0][0] = R * sp.duu;
-        out.dd[0][1] = out.dd[1][0] = R * sp.duv;
-        out.dd[1][1] = R * sp.dvv;
+        out.dd[0][0] = sp.duu;
+        out.dd[0][1] = out.dd[1][0] = sp.duv;
+        out.dd[1][1] = sp.dvv;
       }
       return;
     }

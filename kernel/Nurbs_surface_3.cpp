@@ -7,6 +7,7 @@
 #include "kernel/Error.h"
 #include "kernel/internal/Bspline_basis.h"
 #include "kernel/internal/Knot_vector.h"
+#include "kernel/internal/Tensor_product.h"
 
 namespace extremal {
 
@@ -116,11 +117,15 @@ namespace {
 // results do not depend on which one runs. Each instance is one flat function (everything
 // inlined into it, and it into nothing): left to itself GCC inlines the instances into
 // evaluate() until its budget runs out and then calls Eigen's small kernels out of line.
+// The sum itself runs in `fast` (AVX2 + FMA, kernel/internal/Tensor_product.h) when the CPU
+// has it: all of its instances also share one order of operations.
 template <int P, int Q, int Order>
 [[gnu::noinline, gnu::flatten]] void evaluate_in_span(const Eigen::Vector4d* hom, int n_v,
                                                      const double* knots_u,
                                                      const double* knots_v, int p, int q, int su,
                                                      int sv, double u, double v, bool rational,
+                                                     const internal::Simd_kernels& fast,
+                                                     const double* R, const double* t,
                                                      Surface_point& out) {
   if constexpr (P > 0) p = P;
   if constexpr (Q > 0) q = Q;
@@ -140,26 +145,59 @@ template <int P, int Q, int Order>
 
   // S[k][l] = d^(k+l) / du^k dv^l of the homogeneous surface, k + l <= Order.
   Eigen::Vector4d S[3][3];
-  for (int k = 0; k <= Order; ++k)
-    for (int l = 0; l + k <= Order; ++l) S[k][l].setZero();
-  for (int i = 0; i <= p; ++i) {
-    const Eigen::Vector4d* row = hom + static_cast<std::size_t>(su - p + i) * n_v + (sv - q);
-    Eigen::Vector4d t0 = Eigen::Vector4d::Zero(), t1 = Eigen::Vector4d::Zero(),
-                    t2 = Eigen::Vector4d::Zero();
-    for (int j = 0; j <= q; ++j) {
-      t0 += Nv.ders[0][j] * row[j];
-      if constexpr (Order >= 1) t1 += Nv.ders[1][j] * row[j];
-      if constexpr (Order >= 2) t2 += Nv.ders[2][j] * row[j];
-    }
-    S[0][0] += Nu.ders[0][i] * t0;
+  const Eigen::Vector4d* corner = hom + static_cast<std::size_t>(su - p) * n_v + (sv - q);
+  if (R != nullptr && fast.placed != nullptr) {
+    double w[6][4];
+    fast.placed(corner->data(), n_v, &Nu.ders[0][0], &Nv.ders[0][0], k_max_degree + 1, p, q,
+                Order, rational, R, t, &w[0][0]);
+    out.p = Vec3::Map(w[0]);
     if constexpr (Order >= 1) {
-      S[1][0] += Nu.ders[1][i] * t0;
-      S[0][1] += Nu.ders[0][i] * t1;
+      out.du = Vec3::Map(w[1]);
+      out.dv = Vec3::Map(w[2]);
     }
     if constexpr (Order >= 2) {
-      S[2][0] += Nu.ders[2][i] * t0;
-      S[1][1] += Nu.ders[1][i] * t1;
-      S[0][2] += Nu.ders[0][i] * t2;
+      out.duu = Vec3::Map(w[3]);
+      out.duv = Vec3::Map(w[4]);
+      out.dvv = Vec3::Map(w[5]);
+    }
+    return;
+  }
+  if (fast.sum != nullptr) {
+    double s[6][4];
+    fast.sum(corner->data(), n_v, &Nu.ders[0][0], &Nv.ders[0][0], k_max_degree + 1, p, q, Order,
+             &s[0][0]);
+    S[0][0] = Eigen::Vector4d::Map(s[0]);
+    if constexpr (Order >= 1) {
+      S[1][0] = Eigen::Vector4d::Map(s[1]);
+      S[0][1] = Eigen::Vector4d::Map(s[2]);
+    }
+    if constexpr (Order >= 2) {
+      S[2][0] = Eigen::Vector4d::Map(s[3]);
+      S[1][1] = Eigen::Vector4d::Map(s[4]);
+      S[0][2] = Eigen::Vector4d::Map(s[5]);
+    }
+  } else {
+    for (int k = 0; k <= Order; ++k)
+      for (int l = 0; l + k <= Order; ++l) S[k][l].setZero();
+    for (int i = 0; i <= p; ++i) {
+      const Eigen::Vector4d* row = corner + static_cast<std::size_t>(i) * n_v;
+      Eigen::Vector4d t0 = Eigen::Vector4d::Zero(), t1 = Eigen::Vector4d::Zero(),
+                      t2 = Eigen::Vector4d::Zero();
+      for (int j = 0; j <= q; ++j) {
+        t0 += Nv.ders[0][j] * row[j];
+        if constexpr (Order >= 1) t1 += Nv.ders[1][j] * row[j];
+        if constexpr (Order >= 2) t2 += Nv.ders[2][j] * row[j];
+      }
+      S[0][0] += Nu.ders[0][i] * t0;
+      if constexpr (Order >= 1) {
+        S[1][0] += Nu.ders[1][i] * t0;
+        S[0][1] += Nu.ders[0][i] * t1;
+      }
+      if constexpr (Order >= 2) {
+        S[2][0] += Nu.ders[2][i] * t0;
+        S[1][1] += Nu.ders[1][i] * t1;
+        S[0][2] += Nu.ders[0][i] * t2;
+      }
     }
   }
   if (!rational) {
@@ -173,19 +211,32 @@ template <int P, int Q, int Order>
       out.duv = S[1][1].head<3>();
       out.dvv = S[0][2].head<3>();
     }
-    return;
+  } else {
+    // Quotient rule on A / w, A the Cartesian part of the homogeneous derivatives.
+    const double inv = 1.0 / S[0][0].w();
+    out.p = S[0][0].head<3>() * inv;
+    if constexpr (Order >= 1) {
+      const double wu = S[1][0].w(), wv = S[0][1].w();
+      out.du = (S[1][0].head<3>() - wu * out.p) * inv;
+      out.dv = (S[0][1].head<3>() - wv * out.p) * inv;
+      if constexpr (Order >= 2) {
+        out.duu = (S[2][0].head<3>() - 2.0 * wu * out.du - S[2][0].w() * out.p) * inv;
+        out.duv = (S[1][1].head<3>() - wu * out.dv - wv * out.du - S[1][1].w() * out.p) * inv;
+        out.dvv = (S[0][2].head<3>() - 2.0 * wv * out.dv - S[0][2].w() * out.p) * inv;
+      }
+    }
   }
-  // Quotient rule on A / w, A the Cartesian part of the homogeneous derivatives.
-  const double inv = 1.0 / S[0][0].w();
-  out.p = S[0][0].head<3>() * inv;
-  if constexpr (Order >= 1) {
-    const double wu = S[1][0].w(), wv = S[0][1].w();
-    out.du = (S[1][0].head<3>() - wu * out.p) * inv;
-    out.dv = (S[0][1].head<3>() - wv * out.p) * inv;
+  if (R != nullptr) {
+    const Eigen::Map<const Mat3> rotation(R);
+    out.p = rotation * out.p + Vec3::Map(t);
+    if constexpr (Order >= 1) {
+      out.du = rotation * out.du;
+      out.dv = rotation * out.dv;
+    }
     if constexpr (Order >= 2) {
-      out.duu = (S[2][0].head<3>() - 2.0 * wu * out.du - S[2][0].w() * out.p) * inv;
-      out.duv = (S[1][1].head<3>() - wu * out.dv - wv * out.du - S[1][1].w() * out.p) * inv;
-      out.dvv = (S[0][2].head<3>() - 2.0 * wv * out.dv - S[0][2].w() * out.p) * inv;
+      out.duu = rotation * out.duu;
+      out.duv = rotation * out.duv;
+      out.dvv = rotation * out.dvv;
     }
   }
 }
@@ -194,23 +245,36 @@ template <int P, int Q, int Order>
 template <int Order>
 void evaluate_dispatch(const Eigen::Vector4d* hom, int n_v, const double* knots_u,
                        const double* knots_v, int p, int q, int su, int sv, double u, double v,
-                       bool rational, Surface_point& out) {
+                       bool rational, const internal::Simd_kernels& fast, const double* R,
+                       const double* t, Surface_point& out) {
 #define EXTREMAL_SPAN_CASE(PP, QQ)                                                           \
   if (p == PP && q == QQ)                                                                    \
     return evaluate_in_span<PP, QQ, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, \
-                                           rational, out)
+                                           rational, fast, R, t, out)
   EXTREMAL_SPAN_CASE(3, 3);
   EXTREMAL_SPAN_CASE(2, 2);
   EXTREMAL_SPAN_CASE(2, 1);
   EXTREMAL_SPAN_CASE(1, 2);
   EXTREMAL_SPAN_CASE(1, 1);
 #undef EXTREMAL_SPAN_CASE
-  evaluate_in_span<0, 0, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, rational, out);
+  evaluate_in_span<0, 0, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, rational, fast,
+                                R, t, out);
 }
 
 }  // namespace
 
 void Nurbs_surface_3::evaluate(double u, double v, Surface_point& out, int order) const {
+  evaluate_in_frame(u, v, nullptr, nullptr, out, order);
+}
+
+void Nurbs_surface_3::evaluate_placed(double u, double v, const Mat3& rotation,
+                                      const Vec3& translation, Surface_point& out,
+                                      int order) const {
+  evaluate_in_frame(u, v, rotation.data(), translation.data(), out, order);
+}
+
+void Nurbs_surface_3::evaluate_in_frame(double u, double v, const double* R, const double* t,
+                                        Surface_point& out, int order) const {
   EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
                             "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
   EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
@@ -222,10 +286,17 @@ void Nurbs_surface_3::evaluate(double u, double v, Surface_point& out, int order
   const Eigen::Vector4d* hom = m_hom.data();
   const double* ku = m_knots_u.data();
   const double* kv = m_knots_v.data();
+  const internal::Simd_kernels& fast = internal::fast_kernels();
   switch (order) {
-    case 0: return evaluate_dispatch<0>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, out);
-    case 1: return evaluate_dispatch<1>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, out);
-    default: return evaluate_dispatch<2>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, out);
+    case 0:
+      return evaluate_dispatch<0>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, fast, R, t,
+                                  out);
+    case 1:
+      return evaluate_dispatch<1>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, fast, R, t,
+                                  out);
+    default:
+      return evaluate_dispatch<2>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, fast, R, t,
+                                  out);
   }
 }
 

@@ -65,6 +65,10 @@ class Nurbs_surface_3 {
   // Point and partial derivatives up to `order` (0, 1 or 2) at (u, v) in the domain, knots and
   // ends included. No heap allocation; a polynomial patch skips the quotient rule.
   void evaluate(double u, double v, Surface_point& out, int order = 2) const;
+  // The same in the frame where the patch is placed by x -> rotation x + translation (the
+  // world, for a body's pose): cheaper than evaluating and then rotating each derivative.
+  void evaluate_placed(double u, double v, const Mat3& rotation, const Vec3& translation,
+                       Surface_point& out, int order = 2) const;
   Point_3 point(double u, double v) const;
   // Unit outward normal (f_u x f_v times outward_sign); zero where f_u x f_v vanishes, that is
   // falls below 1e-12 |coordinates| size / (u width * v width), the level rounding leaves at
@@ -81,6 +85,10 @@ class Nurbs_surface_3 {
                                           std::vector<double> knots_v);
 
  private:
+  // R (column-major 3 x 3) and t, or both nullptr for the patch's own frame.
+  void evaluate_in_frame(double u, double v, const double* R, const double* t, Surface_point& out,
+                         int order) const;
+
   int m_degree_u, m_degree_v;
   int m_n_u, m_n_v;
   std::vector<Point_3> m_poles;
