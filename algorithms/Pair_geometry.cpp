@@ -70,19 +70,25 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
 
   if (na == 2 && nb == 2 && form == Formulation::Projection) {
     // Surface-surface in the projection form, the tracker's hot case: the loops below written
-    // out (same expressions, same rounding).
+    // out, each distinct product once (x.y == y.x exactly; dd[0][1] == dd[1][0]), so the
+    // entries round exactly as the loops' do.
     const Vec3 *fa = s.a.d, *fb = s.b.d;
     s.projection = Vec4(d.dot(fa[0]), d.dot(fa[1]), d.dot(fb[0]), d.dot(fb[1]));
     s.phi = s.projection;
     Mat4& M = s.M;
-    for (int i = 0; i < 2; ++i) {
+    const double aa01 = fa[1].dot(fa[0]), bb01 = fb[1].dot(fb[0]);
+    M(0, 0) = fa[0].dot(fa[0]) + d.dot(s.a.dd[0][0]);
+    M(1, 1) = fa[1].dot(fa[1]) + d.dot(s.a.dd[1][1]);
+    M(0, 1) = M(1, 0) = aa01 + d.dot(s.a.dd[0][1]);
+    M(2, 2) = -fb[0].dot(fb[0]) + d.dot(s.b.dd[0][0]);
+    M(3, 3) = -fb[1].dot(fb[1]) + d.dot(s.b.dd[1][1]);
+    M(2, 3) = M(3, 2) = -bb01 + d.dot(s.b.dd[0][1]);
+    for (int i = 0; i < 2; ++i)
       for (int k = 0; k < 2; ++k) {
-        M(i, k) = fa[k].dot(fa[i]) + d.dot(s.a.dd[i][k]);
-        M(i, 2 + k) = -fb[k].dot(fa[i]);
-        M(2 + i, k) = fa[k].dot(fb[i]);
-        M(2 + i, 2 + k) = -fb[k].dot(fb[i]) + d.dot(s.b.dd[i][k]);
+        const double ab = fa[i].dot(fb[k]);
+        M(i, 2 + k) = -ab;
+        M(2 + k, i) = ab;
       }
-    }
   } else {
     build_general_rows(s, d, form, dn_a, dn_b);
   }

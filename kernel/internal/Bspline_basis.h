@@ -20,6 +20,7 @@ namespace internal {
 // Index k of the knot span [t_k, t_{k+1}) holding t, with p <= k <= n - 1 where n is the number
 // of control points. The domain's right end maps to the last non-empty span.
 inline int find_span(const double* knots, int n, int p, double t) {
+  if (n == p + 1) return p;  // one span (a Bezier piece): the common case in the hot loops
   if (t >= knots[n]) {
     int k = n - 1;
     while (k > p && knots[k] >= knots[k + 1]) --k;
@@ -136,11 +137,78 @@ inline void basis_recurrence(const Knot& knot, int p_run, const Real& t, int nd,
   }
 }
 
+// Whether span k of a degree-p knot vector is a Bezier segment: both its ends have multiplicity
+// p (clamped ends, the double knots of conics, single-span patches). The B-spline basis on it
+// is then the Bernstein basis of [knots[k], knots[k + 1]].
+inline bool is_bezier_span(const double* knots, int k, int p) {
+  return knots[k - p + 1] == knots[k] && knots[k + 1] == knots[k + p];
+}
+
+// The Bernstein basis of degree p at s in [0, 1] and its derivatives up to order nd (nd <= 2)
+// with respect to t = a + s h, where inv_h = 1 / h: the triangle of de Casteljau's algorithm,
+// whose last three rows give the values and, by differences, the derivatives. No division;
+// far fewer operations than the general recurrence. Same Fixed / Real scheme as
+// basis_recurrence; ders[r * stride + j] receives the r-th derivative of basis function j.
+template <int Fixed, class Real>
+inline void bernstein_derivatives(int p_run, const Real& s, const Real& inv_h, int nd, Real* ders,
+                                  int stride) {
+  const int p = Fixed > 0 ? Fixed : p_run;
+  constexpr int cap = Fixed > 0 ? Fixed : k_max_degree;
+  const Real zero = real_constant<Real>(0.0);
+  const Real r = real_constant<Real>(1.0) - s;
+  Real row[cap + 1];
+  Real row_p1[cap + 1];  // degree p - 1
+  Real row_p2[cap + 1];  // degree p - 2
+  row[0] = real_constant<Real>(1.0);
+  for (int d = 1; d <= p; ++d) {
+    if (d == p - 1)
+      for (int j = 0; j < d; ++j) row_p2[j] = row[j];
+    if (d == p)
+      for (int j = 0; j < d; ++j) row_p1[j] = row[j];
+    Real before = zero;  // entry j - 1 of the previous row
+    for (int j = 0; j < d; ++j) {
+      const Real here = row[j];
+      row[j] = r * here + s * before;
+      before = here;
+    }
+    row[d] = s * before;
+  }
+  for (int j = 0; j <= p; ++j) ders[j] = row[j];
+  for (int kk = 1; kk <= nd; ++kk)
+    for (int j = 0; j <= p; ++j) ders[kk * stride + j] = zero;
+  if (nd >= 1 && p >= 1) {
+    // d/dt B_j^p = p / h (B_{j-1}^{p-1} - B_j^{p-1}).
+    const Real f = real_constant<Real>(p) * inv_h;
+    for (int j = 0; j <= p; ++j) {
+      const Real left = j >= 1 ? row_p1[j - 1] : zero;
+      const Real right = j <= p - 1 ? row_p1[j] : zero;
+      ders[stride + j] = f * (left - right);
+    }
+  }
+  if (nd >= 2 && p >= 2) {
+    // d2/dt2 B_j^p = p (p - 1) / h^2 (B_{j-2}^{p-2} - 2 B_{j-1}^{p-2} + B_j^{p-2}).
+    const Real f = real_constant<Real>(p * (p - 1)) * inv_h * inv_h;
+    for (int j = 0; j <= p; ++j) {
+      const Real a = j >= 2 ? row_p2[j - 2] : zero;
+      const Real b = j >= 1 && j - 1 <= p - 2 ? row_p2[j - 1] : zero;
+      const Real c = j <= p - 2 ? row_p2[j] : zero;
+      ders[2 * stride + j] = f * ((a - (b + b)) + c);
+    }
+  }
+}
+
 // Basis values and derivatives up to order nd (nd <= 2) at t in span k, degree p (Fixed > 0:
 // known at compile time).
 template <int Fixed>
 inline void basis_derivatives_impl(const double* knots, int k, int p, double t, int nd,
                                    Basis_derivatives& out) {
+  if (Fixed > 0 && is_bezier_span(knots, k, Fixed > 0 ? Fixed : p)) {
+    // s by division, not by 1 / h: exactly 1 at the span's right end (0 at its left).
+    const double h = knots[k + 1] - knots[k];
+    bernstein_derivatives<Fixed>(p, (t - knots[k]) / h, 1.0 / h, nd, &out.ders[0][0],
+                                 k_max_degree + 1);
+    return;
+  }
   basis_recurrence<Fixed>([=](int i) { return knots[k + i]; }, p, t, nd, &out.ders[0][0],
                           k_max_degree + 1);
 }
@@ -155,9 +223,17 @@ inline void basis_derivatives_pair(const double* knots_u, int ku, double u, cons
   static_assert(P > 0, "the pair runs compile-time degrees only");
 #if defined(__SSE2__)
   Double_pair ders[3 * (P + 1)];
-  basis_recurrence<P>(
-      [=](int i) { return Double_pair{_mm_set_pd(knots_v[kv + i], knots_u[ku + i])}; }, P,
-      Double_pair{_mm_set_pd(v, u)}, nd, ders, P + 1);
+  if (is_bezier_span(knots_u, ku, P) && is_bezier_span(knots_v, kv, P)) {
+    const Double_pair a{_mm_set_pd(knots_v[kv], knots_u[ku])};
+    const Double_pair h = Double_pair{_mm_set_pd(knots_v[kv + 1], knots_u[ku + 1])} - a;
+    // s by division, not by 1 / h: exactly 1 at the span's right end (0 at its left).
+    bernstein_derivatives<P>(P, (Double_pair{_mm_set_pd(v, u)} - a) / h,
+                             Double_pair::Constant(1.0) / h, nd, ders, P + 1);
+  } else {
+    basis_recurrence<P>(
+        [=](int i) { return Double_pair{_mm_set_pd(knots_v[kv + i], knots_u[ku + i])}; }, P,
+        Double_pair{_mm_set_pd(v, u)}, nd, ders, P + 1);
+  }
   for (int r = 0; r <= std::min(nd, 2); ++r)
     for (int j = 0; j <= P; ++j) {
       out_u.ders[r][j] = ders[r * (P + 1) + j].first();
