@@ -530,6 +530,30 @@ struct Witness {
   double qa[2] = {0, 0}, qb[2] = {0, 0};
 };
 
+// Whether the second derivatives of f along parameter `dir` are continuous on the open interval
+// (lo, hi): no knot there whose multiplicity exceeds the degree less 2.
+bool second_derivatives_continuous(const Feature& f, int dir, double lo, double hi) {
+  const std::vector<double>* knots = nullptr;
+  int degree = 0;
+  if (f.surface()) {
+    knots = dir == 0 ? &f.surface()->knots_u() : &f.surface()->knots_v();
+    degree = dir == 0 ? f.surface()->degree_u() : f.surface()->degree_v();
+  } else if (f.curve()) {
+    knots = &f.curve()->knots();
+    degree = f.curve()->degree();
+  } else {
+    return true;
+  }
+  for (std::size_t k = 0; k < knots->size();) {
+    std::size_t m = 1;
+    while (k + m < knots->size() && (*knots)[k + m] == (*knots)[k]) ++m;
+    const double t = (*knots)[k];
+    if (t > lo && t < hi && degree - static_cast<int>(m) < 2) return false;
+    k += m;
+  }
+  return true;
+}
+
 int corner_count(const Live_node& n) { return n.dim == 0 ? 1 : n.dim == 1 ? 2 : 4; }
 
 // Corner k of a net: its pole index and parameters (corners of a Bezier net lie on the piece).
@@ -581,7 +605,7 @@ class Solver {
   void try_certify(const Live_node& a, const Live_node& b);
   bool certify_region(internal::Known_solution& sol, const double* rho);
   bool enclose_element(int side, int e, const double* lo, const double* hi, const Vec3& origin,
-                       internal::Derivative_enclosure& out);
+                       internal::Derivative_enclosure& out, int order);
   double region_bound(const Live_node& a, const Live_node& b) const;
   bool holds_no_minimum(const Live_node& a, const Live_node& b, int side);
   void classify_meeting();
@@ -747,7 +771,7 @@ void Solver::polish(const Live_node& a, const Live_node& b) {
 // `origin` (a point near the box: interval arithmetic on the quotient rule loses |f| times the
 // weight derivative's width, so f must be small).
 bool Solver::enclose_element(int side, int e, const double* lo, const double* hi,
-                             const Vec3& origin, internal::Derivative_enclosure& out) {
+                             const Vec3& origin, internal::Derivative_enclosure& out, int order) {
   const Distance_hierarchy& h = *m_side[side].h;
   const int dim = feature(side, e).dimension();
   const Mat3& R = m_side[side].X->rotation();
@@ -776,7 +800,8 @@ bool Solver::enclose_element(int side, int e, const double* lo, const double* hi
     }
     if (dim >= 1) internal::restrict_net(net.data(), piece.nu, piece.nv, s0[0], s1[0], s0[1], s1[1]);
     internal::Derivative_enclosure enc;
-    if (!internal::enclose_piece(net.data(), piece.nu, piece.nv, dim, width, enc)) return false;
+    if (!internal::enclose_piece(net.data(), piece.nu, piece.nv, dim, width, enc, order))
+      return false;
     internal::hull_into(out, enc, first);
     first = false;
   }
@@ -799,11 +824,11 @@ bool Solver::certify_region(internal::Known_solution& sol, const double* rho) {
     reg.hi[k] = std::min(f.upper(i), sol.params[k] + rho[k]);
   }
   Feature_point xa, xb;
-  evaluate_feature(fa, *m_side[0].X, sol.params.data(), xa, 1);
-  evaluate_feature(fb, *m_side[1].X, sol.params.data() + na, xb, 1);
+  evaluate_feature(fa, *m_side[0].X, sol.params.data(), xa, 2);
+  evaluate_feature(fb, *m_side[1].X, sol.params.data() + na, xb, 2);
   internal::Derivative_enclosure A, B;
-  if (!enclose_element(0, sol.ea, reg.lo, reg.hi, xa.p, A) ||
-      !enclose_element(1, sol.eb, reg.lo + na, reg.hi + na, xb.p, B))
+  if (!enclose_element(0, sol.ea, reg.lo, reg.hi, xa.p, A, 3) ||
+      !enclose_element(1, sol.eb, reg.lo + na, reg.hi + na, xb.p, B, 3))
     return false;
   // The Hessian of D over R as intervals: A's rows, then B's.
   Interval H[4][4];
@@ -818,10 +843,70 @@ bool Solver::certify_region(internal::Known_solution& sol, const double* rho) {
     for (int l = 0; l < nb; ++l)
       H[na + k][na + l] =
           2.0 * ((k == l ? self_dot(B.d[k]) : dot(B.d[k], B.d[l])) - dot(r, B.dd[k][l]));
-  // Positive definite on all of R: after Jacobi scaling, the smallest eigenvalue of the centre
-  // matrix exceeds the spectral radius of the (non-negative, symmetric) radius matrix, which
-  // bounds the spectral norm of every matrix the intervals hold (Rohn's sufficient condition),
-  // by a margin far above rounding.
+  // A second enclosure, much tighter on small regions: the mean-value form about x*,
+  // H(x) = H(x*) + sum_k dH/dx_k (eta) (x_k - x*_k), with the third derivatives enclosed over R.
+  // The first-order variation of r . r_ij along the tangents (nearly orthogonal to r_ij at a
+  // minimum) cancels here, where the plain enclosure counts every component's range in full.
+  // H lies in both enclosures, so in their intersection. The form needs H continuous on R: no
+  // knot inside R where a second derivative may jump (the plain enclosure, a hull over the
+  // pieces, needs only the C1 continuity of D).
+  bool smooth = true;
+  for (int k = 0; k < n; ++k)
+    smooth = smooth && second_derivatives_continuous(k < na ? fa : fb, k < na ? k : k - na,
+                                                     reg.lo[k], reg.hi[k]);
+  if (smooth) {
+    // Derivatives of r = f_A - f_B along all n parameters (zero across the sides): at x*, and
+    // enclosed over R.
+    auto side_of = [&](int k) { return k < na ? 0 : 1; };
+    auto local = [&](int k) { return k < na ? k : k - na; };
+    const Vec3 r0 = xa.p - xb.p;
+    Vec3 r1[4], r2[4][4];
+    internal::Interval3 R1[4], R2[4][4], R3[4][4][4];
+    const internal::Interval3 zero{};
+    auto negate = [](const internal::Interval3& v) {
+      internal::Interval3 m;
+      for (int c = 0; c < 3; ++c) m[c] = Interval{-v[c].hi, -v[c].lo};
+      return m;
+    };
+    for (int k = 0; k < n; ++k) {
+      const int sk = side_of(k), ik = local(k);
+      r1[k] = sk == 0 ? xa.d[ik] : Vec3(-xb.d[ik]);
+      R1[k] = sk == 0 ? A.d[ik] : negate(B.d[ik]);
+      for (int l = 0; l < n; ++l) {
+        const bool same = side_of(l) == sk;
+        const int il = local(l);
+        r2[k][l] = !same ? Vec3::Zero() : sk == 0 ? xa.dd[ik][il] : Vec3(-xb.dd[ik][il]);
+        R2[k][l] = !same ? zero : sk == 0 ? A.dd[ik][il] : negate(B.dd[ik][il]);
+        for (int m = 0; m < n; ++m) {
+          const bool all = same && side_of(m) == sk;
+          R3[k][l][m] = !all ? zero : sk == 0 ? A.ddd[ik][il][local(m)]
+                                              : negate(B.ddd[ik][il][local(m)]);
+        }
+      }
+    }
+    for (int i = 0; i < n; ++i)
+      for (int j = i; j < n; ++j) {
+        const double h0 = 2.0 * (r1[i].dot(r1[j]) + r0.dot(r2[i][j]));
+        Interval delta{0.0, 0.0};
+        for (int k = 0; k < n; ++k) {
+          const Interval dH =
+              2.0 * (dot(R2[i][k], R1[j]) + dot(R1[i], R2[j][k]) + dot(R1[k], R2[i][j]) +
+                     dot(r, R3[i][j][k]));
+          delta = delta + dH * Interval{reg.lo[k] - sol.params[k], reg.hi[k] - sol.params[k]};
+        }
+        const Interval mv{h0 + delta.lo, h0 + delta.hi};
+        const Interval both{std::max(H[i][j].lo, mv.lo), std::min(H[i][j].hi, mv.hi)};
+        if (!(both.lo <= both.hi)) return false;  // only by rounding: no certificate
+        H[i][j] = H[j][i] = both;
+      }
+  }
+  // Positive definite on all of R: after Jacobi scaling (centre C, radius Rad >= 0), for every
+  // symmetric H the intervals hold and every unit x, with z = sign(x) and T = diag(z),
+  //   x' H x >= x' C x - |x|' Rad |x| = x' (C - T Rad T) x,
+  // so it suffices that the 2^(n-1) vertex matrices C - T Rad T (z and -z give the same) are
+  // positive definite (Hertz 1992: their smallest eigenvalue is exactly that of the interval
+  // matrix; Rohn's lambda_min(C) - rho(Rad) is never larger). Checked by Cholesky with a margin
+  // of 1e-6, far above rounding.
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
   Small C(n, n), Rad(n, n);
   for (int i = 0; i < n; ++i)
@@ -840,10 +925,15 @@ bool Solver::certify_region(internal::Known_solution& sol, const double* rho) {
       Rad(i, j) *= S[i] * S[j];
     }
   if (!C.allFinite() || !Rad.allFinite()) return false;
-  const Eigen::SelfAdjointEigenSolver<Small> eig(C, Eigen::EigenvaluesOnly);
-  const Eigen::SelfAdjointEigenSolver<Small> eig_rad(Rad, Eigen::EigenvaluesOnly);
-  if (!(eig.eigenvalues().minCoeff() - eig_rad.eigenvalues().cwiseAbs().maxCoeff() > 1e-6))
-    return false;
+  for (int z = 0; z < (1 << (n - 1)); ++z) {
+    double M[4][4];
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const bool flip = (((z >> i) ^ (z >> j)) & 1) != 0;
+        M[i][j] = C(i, j) - (flip ? -Rad(i, j) : Rad(i, j)) - (i == j ? 1e-6 : 0.0);
+      }
+    if (!internal::cholesky_succeeds(M, n)) return false;
+  }
   const Vec3 d = xa.p - xb.p;
   double D = d.squaredNorm();
   for (int k = 0; k < n; ++k) {

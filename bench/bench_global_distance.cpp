@@ -13,7 +13,9 @@
 // Prints a Markdown table of medians per query and ratios, and every case where a peer's answer
 // is wrong (error > 1e-6 (1 + d): far beyond its own precision) or missing.
 //
-// Usage: bench_global_distance [--quick] [--seed N]
+// Usage: bench_global_distance [--quick] [--seed N] [--only TEXT] [--no-peers]
+//   --only TEXT: only the sets whose name contains TEXT (the cases are drawn as in a full run);
+//   --no-peers:  ours only (for profiling; the ratio column is then empty).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -122,10 +124,13 @@ struct Row {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
+  bool quick = false, peers = true;
+  std::string only;
   std::uint64_t seed = 20261123;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
+    if (!std::strcmp(argv[i], "--no-peers")) peers = false;
+    if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
   }
   std::printf("seed %llu%s\n", static_cast<unsigned long long>(seed), quick ? " (quick)" : "");
@@ -225,6 +230,7 @@ int main(int argc, char** argv) {
   Distance_workspace ws;
 
   for (Case& c : cases) {
+    if (c.group.find(only) == std::string::npos) continue;
     const bool multi = c.a.faces.size() > 1 || c.b.faces.size() > 1;
     const Distance_hierarchy ha(c.a), hb(c.b);
     if (std::isnan(c.truth)) {
@@ -251,7 +257,7 @@ int main(int argc, char** argv) {
       w.nodes.push_back(static_cast<double>(r.nodes_created));
       if (!r.is_certified()) ++w.failures;
     }
-    if (!multi) {
+    if (!multi && peers) {
       const Handle(Geom_BSplineSurface) sa = to_occt(c.a.faces[0].surface, c.X_WA);
       const Handle(Geom_BSplineSurface) sb = to_occt(c.b.faces[0].surface, c.X_WB);
       double d = NAN;
@@ -285,7 +291,7 @@ int main(int argc, char** argv) {
         }
       }
     }
-    {
+    if (peers) {
       const TopoDS_Shape sa = to_occt_shape(c.a, c.X_WA), sb = to_occt_shape(c.b, c.X_WB);
       double d = NAN;
       bool ok = true;

@@ -173,11 +173,12 @@ inline Interval self_dot(const Interval3& a) {
   return square(a[0]) + square(a[1]) + square(a[2]);
 }
 
-// Enclosures over a parameter box of a feature's point and its first and second derivatives
-// along its (element) parameters.
+// Enclosures over a parameter box of a feature's point and its first, second and (on request)
+// third derivatives along its (element) parameters.
 struct Derivative_enclosure {
   int dim = 0;
-  Interval3 p, d[2], dd[2][2];
+  int order = 2;
+  Interval3 p, d[2], dd[2][2], ddd[2][2][2];
 };
 
 inline void hull_into(Derivative_enclosure& into, const Derivative_enclosure& e, bool first) {
@@ -185,39 +186,58 @@ inline void hull_into(Derivative_enclosure& into, const Derivative_enclosure& e,
     for (int c = 0; c < 3; ++c) a[c] = first ? b[c] : hull(a[c], b[c]);
   };
   into.dim = e.dim;
+  into.order = first ? e.order : std::min(into.order, e.order);
   h3(into.p, e.p);
   for (int k = 0; k < e.dim; ++k) {
     h3(into.d[k], e.d[k]);
-    for (int l = 0; l < e.dim; ++l) h3(into.dd[k][l], e.dd[k][l]);
+    for (int l = 0; l < e.dim; ++l) {
+      h3(into.dd[k][l], e.dd[k][l]);
+      if (e.order >= 3)
+        for (int m = 0; m < e.dim; ++m) h3(into.ddd[k][l][m], e.ddd[k][l][m]);
+    }
   }
 }
 
 // Enclosures of a rational Bezier piece with `dim` parameters (nu x nv homogeneous poles, world
-// frame) over its whole box, whose element-parameter widths are `width`. From the convex-hull
-// property of the homogeneous derivative nets (hodographs) and interval arithmetic on the
-// quotient rule; `order` 1 leaves the second derivatives out. False if a weight is not positive.
+// frame) over its whole box, whose element-parameter widths are `width`, up to derivatives of
+// `order` (1 to 3). From the convex-hull property of the homogeneous derivative nets
+// (hodographs) and interval arithmetic on the quotient rule, X = w f differentiated by Leibniz:
+// f_ab = (X_ab - sum over (c, d) != (0, 0) of C(a, c) C(b, d) w_cd f_(a-c)(b-d)) / w.
+// False if a weight is not positive.
 inline bool enclose_piece(const Hom* P, int nu, int nv, int dim, const double* width,
                           Derivative_enclosure& out, int order = 2) {
   out.dim = dim;
-  // Range of a linear combination of poles, all four homogeneous coordinates.
+  out.order = order;
   using Range4 = std::array<Interval, 4>;
-  auto range = [&](int ni, int nj, auto&& coeff) {
+  auto at = [&](int i, int j) -> const Hom& { return P[i * nv + j]; };
+  // Range of the (a, b) hodograph net: falling(p, a) falling(q, b) times the (a, b)-th forward
+  // difference of the poles; zero where the degree is below the order.
+  auto hodograph = [&](int a, int b) {
     Range4 r;
+    for (auto& x : r) x = Interval{0.0, 0.0};
+    if (a > nu - 1 || b > nv - 1) return r;
+    static constexpr double k_binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    double scale = 1.0;
+    for (int k = 0; k < a; ++k) scale *= nu - 1 - k;
+    for (int k = 0; k < b; ++k) scale *= nv - 1 - k;
     bool first = true;
-    for (int i = 0; i < ni; ++i)
-      for (int j = 0; j < nj; ++j) {
-        const Hom v = coeff(i, j);
+    for (int i = 0; i + a < nu; ++i)
+      for (int j = 0; j + b < nv; ++j) {
+        Hom v = Hom::Zero();
+        for (int s = 0; s <= a; ++s)
+          for (int t = 0; t <= b; ++t) {
+            const double c = ((a - s + b - t) % 2 ? -1.0 : 1.0) * k_binom[a][s] * k_binom[b][t];
+            v += c * at(i + s, j + t);
+          }
+        v *= scale;
         for (int c = 0; c < 4; ++c)
           r[c] = first ? Interval{v[c], v[c]} : hull(r[c], Interval{v[c], v[c]});
         first = false;
       }
-    if (first)
-      for (auto& x : r) x = Interval{0.0, 0.0};
     return r;
   };
-  auto at = [&](int i, int j) -> const Hom& { return P[i * nv + j]; };
-  const Range4 X = range(nu, nv, [&](int i, int j) { return at(i, j); });
-  const Interval w = X[3];
+  const Range4 X00 = hodograph(0, 0);
+  const Interval w = X00[3];
   if (!(w.lo > 0.0)) return false;
   for (int c = 0; c < 3; ++c) out.p[c] = Interval{HUGE_VAL, -HUGE_VAL};
   for (int k = 0; k < nu * nv; ++k)
@@ -226,45 +246,62 @@ inline bool enclose_piece(const Hom* P, int nu, int nv, int dim, const double* w
       out.p[c] = Interval{std::min(out.p[c].lo, x), std::max(out.p[c].hi, x)};
     }
   if (dim == 0) return true;
-  const double p = nu - 1, q = nv - 1;
-  const Range4 Xs = range(nu - 1, nv, [&](int i, int j) { return Hom(p * (at(i + 1, j) - at(i, j))); });
-  const Range4 Xss = nu >= 3 && order >= 2 ? range(nu - 2, nv, [&](int i, int j) {
-    return Hom(p * (p - 1) * (at(i + 2, j) - 2.0 * at(i + 1, j) + at(i, j)));
-  }) : Range4{};
-  Interval3 fs, fss;
-  for (int c = 0; c < 3; ++c) {
-    fs[c] = divide_positive(Xs[c] - out.p[c] * Xs[3], w);
-    fss[c] = divide_positive(Xss[c] - 2.0 * (fs[c] * Xs[3]) - out.p[c] * Xss[3], w);
-  }
-  const double iu = 1.0 / width[0];
-  for (int c = 0; c < 3; ++c) {
-    out.d[0][c] = iu * fs[c];
-    out.dd[0][0][c] = (iu * iu) * fss[c];
-  }
-  if (dim == 1) return true;
-  const Range4 Xt = range(nu, nv - 1, [&](int i, int j) { return Hom(q * (at(i, j + 1) - at(i, j))); });
-  if (order < 2) {
-    const Range4 Xt = range(nu, nv - 1, [&](int i, int j) { return Hom(q * (at(i, j + 1) - at(i, j))); });
-    for (int c = 0; c < 3; ++c)
-      out.d[1][c] = (1.0 / width[1]) * divide_positive(Xt[c] - out.p[c] * Xt[3], w);
-    return true;
-  }
-  const Range4 Xtt = nv >= 3 ? range(nu, nv - 2, [&](int i, int j) {
-    return Hom(q * (q - 1) * (at(i, j + 2) - 2.0 * at(i, j + 1) + at(i, j)));
-  }) : Range4{};
-  const Range4 Xst = range(nu - 1, nv - 1, [&](int i, int j) {
-    return Hom(p * q * (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)));
-  });
-  const double iv = 1.0 / width[1];
-  for (int c = 0; c < 3; ++c) {
-    const Interval ft = divide_positive(Xt[c] - out.p[c] * Xt[3], w);
-    const Interval ftt =
-        divide_positive(Xtt[c] - 2.0 * (ft * Xt[3]) - out.p[c] * Xtt[3], w);
-    const Interval fst = divide_positive(
-        Xst[c] - fs[c] * Xt[3] - ft * Xs[3] - out.p[c] * Xst[3], w);
-    out.d[1][c] = iv * ft;
-    out.dd[1][1][c] = (iv * iv) * ftt;
-    out.dd[0][1][c] = out.dd[1][0][c] = (iu * iv) * fst;
+  // f[a][b]: derivative a times along s and b times along t (local parameters of the net).
+  static constexpr int k_binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+  const int top = std::clamp(order, 1, 3);
+  Range4 X[4][4];
+  Interval3 f[4][4];
+  X[0][0] = X00;
+  f[0][0] = out.p;
+  for (int total = 1; total <= top; ++total)
+    for (int b = 0; b <= (dim >= 2 ? total : 0); ++b) {
+      const int a = total - b;
+      X[a][b] = hodograph(a, b);
+      for (int c = 0; c < 3; ++c) {
+        Interval acc = X[a][b][c];
+        for (int i = 0; i <= a; ++i)
+          for (int j = 0; j <= b; ++j) {
+            if (i == 0 && j == 0) continue;
+            acc = acc - double(k_binom[a][i] * k_binom[b][j]) * (X[i][j][3] * f[a - i][b - j][c]);
+          }
+        f[a][b][c] = divide_positive(acc, w);
+      }
+    }
+  const double iw[2] = {1.0 / width[0], dim >= 2 ? 1.0 / width[1] : 1.0};
+  auto scaled = [&](int a, int b) {
+    double s = 1.0;
+    for (int k = 0; k < a; ++k) s *= iw[0];
+    for (int k = 0; k < b; ++k) s *= iw[1];
+    Interval3 v;
+    for (int c = 0; c < 3; ++c) v[c] = s * f[a][b][c];
+    return v;
+  };
+  for (int k = 0; k < dim; ++k) out.d[k] = scaled(k == 0, k == 1);
+  if (top < 2) return true;
+  for (int k = 0; k < dim; ++k)
+    for (int l = 0; l < dim; ++l) out.dd[k][l] = scaled((k == 0) + (l == 0), (k == 1) + (l == 1));
+  if (top < 3) return true;
+  for (int k = 0; k < dim; ++k)
+    for (int l = 0; l < dim; ++l)
+      for (int m = 0; m < dim; ++m)
+        out.ddd[k][l][m] =
+            scaled((k == 0) + (l == 0) + (m == 0), (k == 1) + (l == 1) + (m == 1));
+  return true;
+}
+
+// Whether Cholesky of the symmetric n x n M (n <= 4) finds positive pivots throughout.
+inline bool cholesky_succeeds(const double M[4][4], int n) {
+  double L[4][4] = {};
+  for (int j = 0; j < n; ++j) {
+    double d = M[j][j];
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(d > 0.0)) return false;
+    L[j][j] = std::sqrt(d);
+    for (int i = j + 1; i < n; ++i) {
+      double t = M[i][j];
+      for (int k = 0; k < j; ++k) t -= L[i][k] * L[j][k];
+      L[i][j] = t / L[j][j];
+    }
   }
   return true;
 }
