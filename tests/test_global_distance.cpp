@@ -15,7 +15,9 @@
 #include "algorithms/Ellipsoid_distance.h"
 #include "algorithms/Extremal_tracker.h"
 #include "algorithms/Global_distance.h"
+#include "algorithms/internal/Bezier_net.h"
 #include "kernel/Error.h"
+#include "kernel/Nurbs_refinement.h"
 #include "kernel/Shapes.h"
 #include "support/Random.h"
 
@@ -273,6 +275,84 @@ TEST(GlobalDistance, FreeformPatchesAgainstDenseSamplingAndNewton) {
     EXPECT_LE(r.upper_bound, sampled + 1e-9);
     EXPECT_LE(r.upper_bound - r.lower_bound, 1e-10 * std::max(1.0, r.upper_bound) + 1e-15);
   }
+}
+
+// ---- Derivative enclosures (the convexity certificates' input) ------------------------------
+
+// The hodograph enclosures of a Bezier piece over random sub-boxes hold the point and its first,
+// second and third derivatives sampled on the sub-box (third derivatives by central differences
+// of the exact second ones): the convex regions around Newton solutions rest on them.
+TEST(GlobalDistance, DerivativeEnclosuresHoldSampledDerivativesToThirdOrder) {
+  auto rng = test::seeded_rng();
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Body> bodies;
+  bodies.push_back(make_torus_body(3.0, 1.0));
+  bodies.push_back(make_sphere_body(0.7));
+  bodies.push_back(random_freeform_body(rng, 0.0, 6, true));
+  int checked = 0;
+  for (const Body& body : bodies) {
+    const Bezier_patches pieces = extract_bezier(body.faces[0].surface);
+    for (int trial = 0; trial < 24; ++trial) {
+      const Nurbs_surface_3& piece =
+          pieces.patches[std::uniform_int_distribution<std::size_t>(0, pieces.patches.size() - 1)(rng)];
+      SCOPED_TRACE(::testing::Message() << body.name << " trial " << trial);
+      // A sub-box of relative size 1 down to 1/64 of the piece.
+      const double size = std::pow(2.0, -6.0 * unit(rng));
+      double s0[2], s1[2], lo[2], hi[2], width[2];
+      const double dmin[2] = {piece.u_min(), piece.v_min()}, dmax[2] = {piece.u_max(), piece.v_max()};
+      for (int k = 0; k < 2; ++k) {
+        s0[k] = (1.0 - size) * unit(rng);
+        s1[k] = s0[k] + size;
+        lo[k] = dmin[k] + s0[k] * (dmax[k] - dmin[k]);
+        hi[k] = dmin[k] + s1[k] * (dmax[k] - dmin[k]);
+        width[k] = hi[k] - lo[k];
+      }
+      auto net = piece.homogeneous_poles();
+      const int nu = piece.degree_u() + 1, nv = piece.degree_v() + 1;
+      internal::restrict_net(net.data(), nu, nv, s0[0], s1[0], s0[1], s1[1]);
+      internal::Derivative_enclosure e;
+      ASSERT_TRUE(internal::enclose_piece(net.data(), nu, nv, 2, width, e, 3));
+      auto expect_in = [&](const internal::Interval3& box, const Vec3& v, double slack,
+                           const char* what) {
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_GE(v[c], box[c].lo - slack) << what << " component " << c;
+          EXPECT_LE(v[c], box[c].hi + slack) << what << " component " << c;
+        }
+      };
+      for (int i = 0; i <= 6; ++i)
+        for (int j = 0; j <= 6; ++j) {
+          const double u = lo[0] + width[0] * i / 6.0, v = lo[1] + width[1] * j / 6.0;
+          Surface_point sp;
+          piece.evaluate(u, v, sp, 2);
+          const double scale = 1e-9 * (1.0 + sp.p.norm() + sp.duu.norm() + sp.dvv.norm());
+          expect_in(e.p, sp.p, scale, "point");
+          expect_in(e.d[0], sp.du, scale, "f_u");
+          expect_in(e.d[1], sp.dv, scale, "f_v");
+          expect_in(e.dd[0][0], sp.duu, scale, "f_uu");
+          expect_in(e.dd[0][1], sp.duv, scale, "f_uv");
+          expect_in(e.dd[1][1], sp.dvv, scale, "f_vv");
+          // Third derivatives: central differences of the second ones, inside the piece.
+          const double hu = 1e-4 * width[0], hv = 1e-4 * width[1];
+          const double uc = std::clamp(u, lo[0] + hu, hi[0] - hu);
+          const double vc = std::clamp(v, lo[1] + hv, hi[1] - hv);
+          Surface_point up, um, vp, vm;
+          piece.evaluate(uc + hu, vc, up, 2);
+          piece.evaluate(uc - hu, vc, um, 2);
+          piece.evaluate(uc, vc + hv, vp, 2);
+          piece.evaluate(uc, vc - hv, vm, 2);
+          const Vec3 fuuu = (up.duu - um.duu) / (2 * hu), fuuv = (vp.duu - vm.duu) / (2 * hv);
+          const Vec3 fuvv = (up.dvv - um.dvv) / (2 * hu), fvvv = (vp.dvv - vm.dvv) / (2 * hv);
+          const double slack3 = 1e-5 * (1.0 + fuuu.norm() + fuuv.norm() + fuvv.norm() + fvvv.norm());
+          expect_in(e.ddd[0][0][0], fuuu, slack3, "f_uuu");
+          expect_in(e.ddd[0][0][1], fuuv, slack3, "f_uuv");
+          expect_in(e.ddd[1][0][0], fuuv, slack3, "f_uuv (symmetric)");
+          expect_in(e.ddd[0][1][1], fuvv, slack3, "f_uvv");
+          expect_in(e.ddd[1][1][1], fvvv, slack3, "f_vvv");
+          ++checked;
+        }
+    }
+  }
+  EXPECT_EQ(checked, 3 * 24 * 49);
 }
 
 // ---- Every pair kind ------------------------------------------------------------------------
