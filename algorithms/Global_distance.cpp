@@ -327,6 +327,7 @@ struct Live_node {
   Vec3 bmin = Vec3::Zero(), bmax = Vec3::Zero(), centre = Vec3::Zero();
   double radius = 0.0;
   double size = 0.0;  // box diagonal
+  int split_dir = 0;  // the direction it is halved in (Side::split_direction)
   int child[2] = {-1, -1};
   int depth = 0;
   int axis_stamp = -1;  // the witness axis axis_lo/hi were computed for
@@ -413,6 +414,7 @@ struct Side {
     internal::net_bounds(pools->hom.data() + n.offset, n.count(), pools->cart.data() + n.offset,
                          n.bmin, n.bmax, n.centre, n.radius);
     n.size = (n.bmax - n.bmin).norm();
+    n.split_dir = split_direction(n);
   }
 
   int make_from_tree(int tree_index, int depth) {
@@ -473,7 +475,7 @@ struct Side {
   bool splittable(const Live_node& n, double resolution) const {
     if (!n.is_net()) return true;
     if (n.dim == 0 || n.size <= resolution) return false;
-    const int dir = split_direction(n);
+    const int dir = n.split_dir;
     const double lo = n.lo[dir], hi = n.hi[dir];
     const double mid = 0.5 * (lo + hi);
     return mid > lo && mid < hi;
@@ -492,7 +494,7 @@ struct Side {
       c0 = make_from_tree(tn.left, parent.depth + 1);
       c1 = make_from_tree(tn.right, parent.depth + 1);
     } else {
-      const int dir = split_direction(parent);
+      const int dir = parent.split_dir;
       const int count = parent.count();
       const int off0 = static_cast<int>(pools->hom.size());
       pools->hom.resize(off0 + 2 * count);
