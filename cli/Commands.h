@@ -18,6 +18,10 @@ struct Distance_options {
   std::string pose_a, pose_b;  // "x,y,z[,qw,qx,qy,qz]", empty = identity
   double tolerance = 1e-9;
   bool json = false;
+  // --signed: the signed extremal distance (penetration depth while the bodies overlap,
+  // algorithms/Penetration_depth.h); max_cells its direction-cell budget (0: the default).
+  bool signed_distance = false;
+  int max_cells = 0;
 };
 int run_distance(const Distance_options& options);
 

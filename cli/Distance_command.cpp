@@ -1,5 +1,6 @@
-// `extremal distance A B [--pose-a P] [--pose-b P] [--tolerance E] [--json]`: one-shot certified
-// extremal distance (../shared/CLI.md). A and B are shape specs or files (read_model: STEP, IGES,
+// `extremal distance A B [--pose-a P] [--pose-b P] [--tolerance E] [--json] [--signed
+// [--max-cells N]]`: one-shot certified extremal distance (../shared/CLI.md); with --signed, the
+// signed distance (negative penetration depth while the bodies overlap, Penetration_depth.h). A and B are shape specs or files (read_model: STEP, IGES,
 // BREP, OBJ, meshes); a file that holds several bodies counts as the union of all its bodies (the
 // JSON `body_a` / `body_b` names the body the witness lies on), each body placed by its file
 // placement composed with --pose-a / --pose-b.
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "algorithms/Global_distance.h"
+#include "algorithms/Penetration_depth.h"
 #include "cli/Commands.h"
 #include "io/Model_reader.h"
 #include "io/Shape_spec.h"
@@ -74,6 +76,89 @@ struct Best {
   bool all_certified = true;
 };
 
+// --signed: the signed distance of every body pair; the smallest (the deepest penetration, or
+// the closest pair when none overlaps) is reported, with the smallest lower bound of all.
+int run_signed(const Distance_options& options, const std::vector<Body>& bodies_a,
+               const std::vector<Body>& bodies_b, const std::vector<Distance_hierarchy>& ha,
+               const std::vector<Distance_hierarchy>& hb, const std::vector<Rigid_pose_3>& poses_a,
+               const std::vector<Rigid_pose_3>& poses_b) {
+  Signed_distance_request request;
+  request.absolute_tolerance = options.tolerance;
+  request.relative_tolerance = 0.0;
+  if (options.max_cells > 0) request.max_cells = options.max_cells;
+  request.max_seconds = 60.0;
+  request.apart.max_seconds = 60.0;
+  Signed_distance_result best;
+  std::size_t best_a = 0, best_b = 0;
+  double lower = HUGE_VAL;
+  bool any = false, all_certified = true;
+  for (std::size_t i = 0; i < ha.size(); ++i)
+    for (std::size_t j = 0; j < hb.size(); ++j) {
+      const Signed_distance_result r =
+          signed_distance(bodies_a[i], ha[i], poses_a[i], bodies_b[j], hb[j], poses_b[j], request);
+      lower = std::min(lower, r.lower_bound);
+      all_certified = all_certified && r.is_certified();
+      if (!any || r.upper_bound < best.upper_bound) {
+        best = r;
+        best_a = i;
+        best_b = j;
+        any = true;
+      }
+    }
+  Signed_distance_result& r = best;
+  r.lower_bound = std::min(r.lower_bound, lower);
+  if (!all_certified && r.is_certified()) r.status = Signed_distance_status::Budget_exhausted;
+  const bool overlapping = r.overlap != Overlap_kind::None;
+
+  nlohmann::json j;
+  j["distance"] = r.distance;
+  j["lower_bound"] = r.lower_bound;
+  j["upper_bound"] = r.upper_bound;
+  j["point_a"] = vec_json(r.point_a);
+  j["point_b"] = vec_json(r.point_b);
+  j["normal"] = vec_json(r.normal);
+  j["face_a"] = r.face_a;
+  j["face_b"] = r.face_b;
+  j["status"] = to_string(r.status);
+  j["certified"] = r.is_certified();
+  j["body_a"] = bodies_a[best_a].name;
+  j["body_b"] = bodies_b[best_b].name;
+  j["element_a"] = {{"kind", to_string(r.kind_a)}, {"index", r.element_a},
+                    {"params", {r.params_a[0], r.params_a[1]}}};
+  j["element_b"] = {{"kind", to_string(r.kind_b)}, {"index", r.element_b},
+                    {"params", {r.params_b[0], r.params_b[1]}}};
+  j["tolerance"] = options.tolerance;
+  j["overlap"] = to_string(r.overlap);
+  // What -distance measures while overlapping: the minimum translation distance (both bodies
+  // certified convex) or the depth of the convex hulls (an upper bound on it).
+  if (overlapping) j["depth"] = r.depth_is_translation_distance ? "translation" : "hull";
+  j["closed_a"] = {{"closed", r.closed_a.closed}, {"reason", r.closed_a.reason}};
+  j["closed_b"] = {{"closed", r.closed_b.closed}, {"reason", r.closed_b.reason}};
+  j["work"] = {{"pairs", r.apart.pairs_processed},
+               {"nodes", r.apart.nodes_created},
+               {"newton_runs", r.apart.newton_runs},
+               {"intersection_attempts", r.apart.intersection_attempts},
+               {"direction_cells", r.cells},
+               {"supports", r.supports},
+               {"winding_cells", r.winding_cells}};
+  if (options.json) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << std::setprecision(17);
+  std::cout << "distance " << r.distance << "  (" << to_string(r.status) << ": " << r.lower_bound
+            << " <= d <= " << r.upper_bound << ")\n";
+  if (overlapping)
+    std::cout << "overlap " << to_string(r.overlap) << ", depth of the "
+              << (r.depth_is_translation_distance ? "bodies (minimum translation distance)"
+                                                  : "convex hulls")
+              << "\n";
+  std::cout << "point_a " << r.point_a.transpose() << "  on " << bodies_a[best_a].name << "\n";
+  std::cout << "point_b " << r.point_b.transpose() << "  on " << bodies_b[best_b].name << "\n";
+  std::cout << "normal  " << r.normal.transpose() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int run_distance(const Distance_options& options) {
@@ -105,6 +190,9 @@ int run_distance(const Distance_options& options) {
     std::vector<Rigid_pose_3> poses_a, poses_b;
     for (const Body& b : bodies_a) poses_a.push_back(X_WA * b.placement);
     for (const Body& b : bodies_b) poses_b.push_back(X_WB * b.placement);
+
+    if (options.signed_distance)
+      return run_signed(options, bodies_a, bodies_b, ha, hb, poses_a, poses_b);
 
     Distance_request request;
     request.absolute_tolerance = options.tolerance;  // CLI.md: d within the tolerance

@@ -29,6 +29,18 @@ int main(int argc, char** argv) {
   distance_cmd->add_option("--tolerance", distance.tolerance, "Certificate tolerance")
       ->check(CLI::PositiveNumber);
   distance_cmd->add_flag("--json", distance.json, "JSON output with the bounds");
+  CLI::Option* signed_opt = distance_cmd->add_flag(
+      "--signed", distance.signed_distance,
+      "Signed distance: negative penetration depth when the bodies overlap (surfaces meet or "
+      "one lies inside the other), -min over n of h_A(n) + h_B(-n) (support functions): the "
+      "minimum translation distance for convex bodies, their convex hulls' depth otherwise; "
+      "status 'penetrating'");
+  distance_cmd->add_option("--max-cells", distance.max_cells,
+                           "With --signed: budget of direction cells for the depth (default 200000)")
+      ->check(CLI::PositiveNumber)
+      ->needs(signed_opt);
+  distance_cmd->footer(
+      "Exit codes: 0 success, 1 bad input (message on stderr), 2 usage error.");
 
   extremal::cli::Report_options report;
   CLI::App* report_cmd = app.add_subcommand(

@@ -81,6 +81,93 @@ TEST(DistanceCli, BadInputNamesTheArgumentAndExitsOne) {
 TEST(DistanceCli, UsageErrorsExitTwo) {
   EXPECT_EQ(run("distance point").exit_code, 2);
   EXPECT_EQ(run("distance point point --tolerance -1").exit_code, 2);
+  // --max-cells belongs to --signed, and must be positive.
+  EXPECT_EQ(run("distance point sphere:1 --max-cells 100").exit_code, 2);
+  EXPECT_EQ(run("distance point sphere:1 --signed --max-cells 0").exit_code, 2);
+  EXPECT_EQ(run("distance point sphere:1 --signed --max-cells x").exit_code, 2);
+}
+
+// --signed: overlapping spheres report minus the depth (|c_B - c_A| - r_A - r_B), status
+// `penetrating`, the same keys as the plain output, and bounds that hold the truth.
+TEST(DistanceCli, SignedOverlappingSpheresReportTheirDepth) {
+  const Cli_run r = run("distance sphere:1 sphere:0.7 --pose-b 1.2,0.3,0 --signed --json "
+                        "--tolerance 1e-10");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"distance", "lower_bound", "upper_bound", "point_a", "point_b", "normal",
+                          "face_a", "face_b", "status"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  const double truth = Vec3(1.2, 0.3, 0).norm() - 1.7;
+  EXPECT_EQ(j["status"], "penetrating");
+  EXPECT_EQ(j["overlap"], "surfaces_meet");
+  EXPECT_EQ(j["depth"], "translation");
+  EXPECT_NEAR(j["distance"].get<double>(), truth, 1e-10);
+  EXPECT_LE(j["lower_bound"].get<double>(), truth + 1e-12);
+  EXPECT_GE(j["upper_bound"].get<double>(), truth - 1e-12);
+  EXPECT_NEAR((vec(j["normal"]) - Vec3(1.2, 0.3, 0).normalized()).norm(), 0.0, 1e-4);
+
+  // Apart, --signed gives exactly the plain answer.
+  const Cli_run plain = run("distance ellipsoid:3,2,1.5 sphere:1 --pose-b 6,1,0 --json");
+  const Cli_run signed_apart =
+      run("distance ellipsoid:3,2,1.5 sphere:1 --pose-b 6,1,0 --json --signed");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(signed_apart.exit_code, 0) << signed_apart.err;
+  const auto jp = nlohmann::json::parse(plain.out), js = nlohmann::json::parse(signed_apart.out);
+  for (const char* key : {"distance", "lower_bound", "upper_bound", "point_a", "point_b", "normal",
+                          "face_a", "face_b", "status"})
+    EXPECT_EQ(jp[key], js[key]) << key;
+  EXPECT_EQ(js["overlap"], "none");
+
+  // Text output names the overlap.
+  const Cli_run text = run("distance point sphere:2 --pose-a 0.3,0,0 --signed");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("distance -1.7"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("a_inside_b"), std::string::npos) << text.out;
+}
+
+// A STEP file (bug24283_spheres.stp: a unit sphere at the origin and a second one near
+// (3, 0, 0)) against an ellipsoid pushed through the unit sphere's surface at c: the deepest
+// pair is the unit sphere and the ellipsoid; the truth is the minimum of the analytic
+// overlap(n) = 1 + n.(0 - c) + sqrt(n^T diag(s^2) n) over a fine grid, zoomed.
+TEST(DistanceCli, SignedStepPartWithAShapeThroughIt) {
+  const std::string file = std::string(EXTREMAL_SHARED_DATA) + "/step/bug24283_spheres.stp";
+  const Vec3 c(0.9, 0.4, -0.3), axes(0.6, 0.4, 0.3);
+  const Cli_run r = run("distance " + file + " ellipsoid:0.6,0.4,0.3 --pose-b 0.9,0.4,-0.3 --signed "
+                        "--json --tolerance 1e-9");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  auto overlap = [&](double th, double ph) {
+    const Vec3 n(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+    return 1.0 - n.dot(c) + std::sqrt(n.cwiseProduct(axes).squaredNorm());
+  };
+  double best = HUGE_VAL, bt = 0, bp = 0, h = M_PI / 200;
+  for (int i = 0; i <= 200; ++i)
+    for (int k = 0; k < 400; ++k)
+      if (overlap(h * i, h * k) < best) {
+        best = overlap(h * i, h * k);
+        bt = h * i;
+        bp = h * k;
+      }
+  for (int level = 0; level < 40; ++level, h *= 0.5) {
+    const double t0 = bt, p0 = bp;
+    for (int i = -10; i <= 10; ++i)
+      for (int k = -10; k <= 10; ++k)
+        if (overlap(t0 + h * i / 5, p0 + h * k / 5) < best) {
+          best = overlap(t0 + h * i / 5, p0 + h * k / 5);
+          bt = t0 + h * i / 5;
+          bp = p0 + h * k / 5;
+        }
+  }
+  const double truth = -best;
+  EXPECT_EQ(j["status"], "penetrating");
+  EXPECT_EQ(j["overlap"], "surfaces_meet");
+  EXPECT_EQ(j["depth"], "hull");  // a trimmed STEP sphere face is not certified convex
+  EXPECT_EQ(j["closed_a"]["closed"], true);
+  EXPECT_EQ(j["closed_b"]["closed"], true);
+  EXPECT_EQ(j["body_a"], "NAUO1");
+  EXPECT_NEAR(j["distance"].get<double>(), truth, 1e-9);
+  EXPECT_LE(j["lower_bound"].get<double>(), truth + 1e-12);
+  EXPECT_GE(j["upper_bound"].get<double>(), truth - 1e-12);
 }
 
 }  // namespace

@@ -1,0 +1,1027 @@
+#include "algorithms/Penetration_depth.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <queue>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "algorithms/Feature.h"
+#include "algorithms/internal/Bezier_net.h"
+#include "kernel/Error.h"
+
+namespace extremal {
+
+const char* to_string(Signed_distance_status s) {
+  switch (s) {
+    case Signed_distance_status::Converged: return "converged";
+    case Signed_distance_status::Touching: return "touching";
+    case Signed_distance_status::Penetrating: return "penetrating";
+    case Signed_distance_status::Budget_exhausted: return "budget_exhausted";
+    case Signed_distance_status::Resolution_limit: return "resolution_limit";
+    case Signed_distance_status::Containment_unknown: return "containment_unknown";
+  }
+  return "?";
+}
+
+const char* to_string(Overlap_kind k) {
+  switch (k) {
+    case Overlap_kind::None: return "none";
+    case Overlap_kind::Surfaces_meet: return "surfaces_meet";
+    case Overlap_kind::A_inside_B: return "a_inside_b";
+    case Overlap_kind::B_inside_A: return "b_inside_a";
+  }
+  return "?";
+}
+
+namespace {
+
+using internal::Hom;
+using Hom_vector = std::vector<Hom, Eigen::aligned_allocator<Hom>>;
+
+// Largest n.x over a box (body frame).
+double box_support(const Bbox_3& b, const Vec3& n) {
+  const Vec3 c(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+  const Vec3 h(0.5 * (b.xmax() - b.xmin()), 0.5 * (b.ymax() - b.ymin()), 0.5 * (b.zmax() - b.zmin()));
+  return n.dot(c) + n.cwiseAbs().dot(h);
+}
+
+// A tree node (piece < 0 ... node >= 0) or a sub-net in the pool (node < 0).
+struct Net_item {
+  double key = 0.0;
+  int node = -1;
+  int piece = -1;
+  int net = 0;  // pool offset
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  int depth = 0;
+};
+struct Key_less {
+  bool operator()(const Net_item& a, const Net_item& b) const { return a.key < b.key; }
+};
+
+// Parameters of corner k (0..3) of a sub-net over [lo, hi]: bit 0 the first, bit 1 the second.
+void corner_params(const double* lo, const double* hi, int k, double* q) {
+  q[0] = (k & 1) ? hi[0] : lo[0];
+  q[1] = (k & 2) ? hi[1] : lo[1];
+}
+
+// Pole index of corner k of a nu x nv net (pole (i, j) at i * nv + j, i along the first
+// parameter).
+int corner_pole(int nu, int nv, int k) {
+  const int i = (k & 1) ? nu - 1 : 0;
+  const int j = (k & 2) ? nv - 1 : 0;
+  return i * nv + j;
+}
+
+// Maximises n.f over element e from params q by Newton's method (body frame); returns true and
+// updates q, value when it found a better point on the body.
+bool polish_support(const Distance_hierarchy& H, int e, const Vec3& n, double* q, double& value) {
+  const auto& el = H.elements()[e];
+  const int dim = el.feature.dimension();
+  if (dim == 0) return false;
+  const Rigid_pose_3 identity;
+  Feature_point fp;
+  bool improved = false;
+  double cur[2] = {q[0], q[1]};
+  for (int it = 0; it < 30; ++it) {
+    evaluate_feature(el.feature, identity, cur, fp, 2);
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d Hm = Eigen::Matrix2d::Identity();
+    for (int i = 0; i < dim; ++i) {
+      g[i] = n.dot(fp.d[i]);
+      for (int j = 0; j < dim; ++j) Hm(i, j) = n.dot(fp.dd[i][j]);
+    }
+    Eigen::Vector2d step = Eigen::Vector2d::Zero();
+    if (dim == 1) {
+      if (!(Hm(0, 0) < 0.0)) break;
+      step[0] = -g[0] / Hm(0, 0);
+    } else {
+      // A maximum: -H positive definite.
+      const Eigen::LLT<Eigen::Matrix2d> llt(-Hm);
+      if (llt.info() != Eigen::Success) break;
+      step = llt.solve(g);
+    }
+    double next[2] = {cur[0], cur[1]};
+    for (int i = 0; i < dim; ++i) {
+      const double lo = el.feature.lower(i), hi = el.feature.upper(i);
+      const double w = hi - lo;
+      step[i] = std::clamp(step[i], -0.25 * w, 0.25 * w);
+      next[i] = std::clamp(cur[i] + step[i], lo, hi);
+    }
+    if (!H.on_body(e, next)) break;
+    Feature_point np;
+    evaluate_feature(el.feature, identity, next, np, 0);
+    const double v = n.dot(np.p);
+    if (!(v > value)) break;
+    value = v;
+    cur[0] = next[0];
+    cur[1] = next[1];
+    improved = true;
+    if (std::abs(step[0]) + std::abs(step[1]) < 1e-15 * (1.0 + std::abs(cur[0]) + std::abs(cur[1])))
+      break;
+  }
+  if (improved) {
+    q[0] = cur[0];
+    q[1] = cur[1];
+  }
+  return improved;
+}
+
+// A sub-net of a trimmed face holds no maximiser of n.f when the gradient of n.f along the
+// face's parameters is nowhere zero over it (its enclosure excludes zero) and it touches no
+// open side of the face: a maximiser inside the trimmed domain would make the gradient vanish,
+// and one on the trim boundary lies on a B-rep edge, a curve element whose own sub-nets hold
+// it. Such a sub-net is dropped without a bound (as Global_distance does for minima on trim
+// boundaries): straddling sub-nets would otherwise bound the patch beyond the trim and close
+// only linearly.
+bool holds_no_maximum(const Distance_hierarchy& H, int e, const Hom* src, int nu, int nv,
+                      const double* lo, const double* hi, const Vec3& n, Hom_vector& scratch) {
+  const auto& el = H.elements()[e];
+  if (el.kind != Element_kind::Face || !el.trimmed || (el.open_sides & 0x10u)) return false;
+  const Feature& f = el.feature;
+  unsigned touch = 0;
+  for (int k = 0; k < 2; ++k) {
+    if (lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
+    if (hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
+  }
+  if (touch & el.open_sides) return false;
+  const int count = nu * nv;
+  Vec3 centre = Vec3::Zero();
+  for (int k = 0; k < count; ++k) centre += src[k].head<3>() / src[k][3];
+  centre /= count;
+  scratch.resize(count);
+  for (int k = 0; k < count; ++k) {
+    scratch[k] = src[k];
+    scratch[k].head<3>() -= src[k][3] * centre;  // near the origin: less rounding
+  }
+  const double width[2] = {hi[0] - lo[0], hi[1] - lo[1]};
+  internal::Derivative_enclosure enc;
+  if (!internal::enclose_piece(scratch.data(), nu, nv, 2, width, enc, 1)) return false;
+  for (int k = 0; k < 2; ++k) {
+    internal::Interval g{0.0, 0.0};
+    double dmax = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      g = g + n[c] * enc.d[k][c];
+      dmax = std::max({dmax, std::abs(enc.d[k][c].lo), std::abs(enc.d[k][c].hi)});
+    }
+    const double margin = 1e-12 * dmax;  // far above the rounding of the enclosure
+    if (g.lo > margin || g.hi < -margin) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Support_bound support_bound(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& n_W,
+                            const Support_request& request) {
+  EXTREMAL_PRECONDITION(request.tolerance > 0.0 && request.max_nets > 0);
+  Support_bound out;
+  const Vec3 n = X_W.rotation().transpose() * n_W;  // body frame
+  const double offset = n_W.dot(X_W.translation());
+  const auto& tree = H.tree();
+  const auto& pieces = H.pieces();
+  const double scale = tree.front().radius + tree.front().centre.norm();
+  const double tiny = 1e-13 * std::max(scale, 1e-300);
+  const double coarse = std::max(request.tolerance, 1e-4 * tree.front().radius);
+
+  Hom_vector pool, scratch;
+  std::vector<Net_item> heap_storage;
+  heap_storage.reserve(256);
+  std::priority_queue<Net_item, std::vector<Net_item>, Key_less> heap(Key_less(),
+                                                                       std::move(heap_storage));
+  double best = -HUGE_VAL;
+  int best_e = -1;
+  double best_q[2] = {0, 0};
+  double floor_upper = -HUGE_VAL;  // keys of sub-nets too small to split
+  bool polished = false;
+
+  auto consider_corners = [&](const Net_item& it) {
+    const auto& pc = pieces[it.piece];
+    const Hom* net = pool.data() + it.net;
+    const int corners = pc.dimension == 2 ? 4 : pc.dimension == 1 ? 2 : 1;
+    for (int k = 0; k < corners; ++k) {
+      const Hom& P = net[corner_pole(pc.nu, pc.nv, k)];
+      const double v = n.dot(P.head<3>() / P[3]);
+      if (!(v > best)) continue;
+      double q[2];
+      corner_params(it.lo, it.hi, k, q);
+      if (pc.dimension < 2) q[1] = 0.0;
+      if (!H.on_body(pc.element, q)) continue;
+      best = v;
+      best_e = pc.element;
+      best_q[0] = q[0];
+      best_q[1] = q[1];
+    }
+  };
+  auto net_key = [&](const Net_item& it, int count) {
+    double key = -HUGE_VAL;
+    const Hom* net = pool.data() + it.net;
+    for (int k = 0; k < count; ++k) key = std::max(key, n.dot(net[k].head<3>() / net[k][3]));
+    return key;
+  };
+  auto net_diagonal = [&](const Net_item& it, int count) {
+    Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
+    const Hom* net = pool.data() + it.net;
+    for (int k = 0; k < count; ++k) {
+      const Vec3 c = net[k].head<3>() / net[k][3];
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+    return (hi - lo).norm();
+  };
+
+  Net_item root;
+  root.node = 0;
+  root.key = box_support(tree.front().box, n);
+  heap.push(root);
+  while (!heap.empty()) {
+    const Net_item top = heap.top();
+    if (top.key <= best + request.tolerance) break;
+    if (!polished && request.newton_polish && best_e >= 0 && top.key <= best + coarse) {
+      polished = true;
+      polish_support(H, best_e, n, best_q, best);
+      continue;
+    }
+    if (out.nets >= request.max_nets) break;
+    heap.pop();
+    if (top.node >= 0) {
+      const auto& tn = tree[top.node];
+      if (tn.piece < 0) {
+        for (int child : {tn.left, tn.right}) {
+          if (child < 0) continue;
+          Net_item c;
+          c.node = child;
+          c.key = box_support(tree[child].box, n);
+          if (c.key > best) heap.push(c);
+        }
+        continue;
+      }
+      const auto& pc = pieces[tn.piece];
+      if (!H.may_hold_trimmed(pc.element, pc.lo, pc.hi)) continue;
+      Net_item it;
+      it.piece = tn.piece;
+      it.net = static_cast<int>(pool.size());
+      pool.insert(pool.end(), H.poles() + pc.offset, H.poles() + pc.offset + pc.nu * pc.nv);
+      it.lo[0] = pc.lo[0];
+      it.lo[1] = pc.lo[1];
+      it.hi[0] = pc.hi[0];
+      it.hi[1] = pc.hi[1];
+      it.key = net_key(it, pc.nu * pc.nv);
+      ++out.nets;
+      consider_corners(it);
+      if (it.key > best + request.tolerance && pc.dimension == 2 &&
+          holds_no_maximum(H, pc.element, pool.data() + it.net, pc.nu, pc.nv, it.lo, it.hi, n, scratch))
+        continue;
+      if (it.key > best) heap.push(it);
+      continue;
+    }
+    const auto& pc = pieces[top.piece];
+    const int count = pc.nu * pc.nv;
+    if (pc.dimension == 0 || net_diagonal(top, count) <= tiny) {
+      floor_upper = std::max(floor_upper, top.key);  // cannot split further
+      continue;
+    }
+    // Halve along the first parameter for curves; alternate for surfaces.
+    const int dir = pc.dimension == 1 ? 0 : (top.depth % 2);
+    const int at = static_cast<int>(pool.size());
+    pool.resize(pool.size() + 2 * count);
+    internal::split_net_half(pool.data() + top.net, pc.nu, pc.nv, dir, pool.data() + at,
+                             pool.data() + at + count);
+    for (int half = 0; half < 2; ++half) {
+      Net_item c;
+      c.piece = top.piece;
+      c.net = at + half * count;
+      c.depth = top.depth + 1;
+      c.lo[0] = top.lo[0];
+      c.lo[1] = top.lo[1];
+      c.hi[0] = top.hi[0];
+      c.hi[1] = top.hi[1];
+      const double mid = 0.5 * (top.lo[dir] + top.hi[dir]);
+      if (half == 0) c.hi[dir] = mid; else c.lo[dir] = mid;
+      ++out.nets;
+      if (!H.may_hold_trimmed(pc.element, c.lo, c.hi)) continue;
+      c.key = net_key(c, count);
+      if (c.key > best + request.tolerance && pc.dimension == 2 &&
+          holds_no_maximum(H, pc.element, pool.data() + c.net, pc.nu, pc.nv, c.lo, c.hi, n, scratch)) {
+        consider_corners(c);  // its corners on the face are still real points
+        continue;
+      }
+      consider_corners(c);
+      if (c.key > best) heap.push(c);
+    }
+  }
+  if (!polished && request.newton_polish && best_e >= 0) polish_support(H, best_e, n, best_q, best);
+  double upper = std::max(best, floor_upper);
+  if (!heap.empty()) upper = std::max(upper, heap.top().key);
+  out.upper = upper + offset;
+  if (best_e >= 0) {
+    const auto& el = H.elements()[best_e];
+    Feature_point fp;
+    evaluate_feature(el.feature, X_W, best_q, fp, 0);
+    out.point = fp.p;
+    out.lower = std::min(n_W.dot(fp.p), out.upper);
+    out.kind = el.kind;
+    out.element = best_e;
+    out.params = {best_q[0], best_q[1]};
+  }
+  out.converged = best_e >= 0 && out.upper - out.lower <= request.tolerance;
+  return out;
+}
+
+// ---- Closedness ----------------------------------------------------------------------------
+
+namespace {
+
+// Point on side `side` (0 u_min, 1 u_max, 2 v_min, 3 v_max) of s at fraction t along it.
+Vec3 side_point(const Nurbs_surface_3& s, int side, double t) {
+  Surface_point sp;
+  const double u = side == 0 ? s.u_min() : side == 1 ? s.u_max() : s.u_min() + t * (s.u_max() - s.u_min());
+  const double v = side == 2 ? s.v_min() : side == 3 ? s.v_max() : s.v_min() + t * (s.v_max() - s.v_min());
+  s.evaluate(u, v, sp, 0);
+  return sp.p;
+}
+
+// Distance from x to side `side` of s: sampled, then Newton on the squared distance.
+double distance_to_side(const Nurbs_surface_3& s, int side, const Vec3& x) {
+  const int samples = 64;
+  double best_t = 0.0, best = HUGE_VAL;
+  for (int k = 0; k <= samples; ++k) {
+    const double t = static_cast<double>(k) / samples;
+    const double d = (side_point(s, side, t) - x).squaredNorm();
+    if (d < best) {
+      best = d;
+      best_t = t;
+    }
+  }
+  const bool along_v = side < 2;
+  const double w = along_v ? s.v_max() - s.v_min() : s.u_max() - s.u_min();
+  double t = best_t;
+  for (int it = 0; it < 30; ++it) {
+    Surface_point sp;
+    const double u = side == 0 ? s.u_min() : side == 1 ? s.u_max() : s.u_min() + t * (s.u_max() - s.u_min());
+    const double v = side == 2 ? s.v_min() : side == 3 ? s.v_max() : s.v_min() + t * (s.v_max() - s.v_min());
+    s.evaluate(u, v, sp, 2);
+    const Vec3 d = sp.p - x;
+    const Vec3 dt = (along_v ? sp.dv : sp.du) * w;
+    const Vec3 dtt = (along_v ? sp.dvv : sp.duu) * w * w;
+    const double g = d.dot(dt), h = dt.squaredNorm() + d.dot(dtt);
+    if (!(h > 0.0)) break;
+    const double nt = std::clamp(t - g / h, 0.0, 1.0);
+    const double nd = (side_point(s, side, nt) - x).squaredNorm();
+    if (!(nd < best)) break;
+    best = nd;
+    t = nt;
+  }
+  return std::sqrt(best);
+}
+
+}  // namespace
+
+Closedness body_closedness(const Body& body) {
+  Closedness out;
+  if (body.is_point) {
+    out.reason = "a point body encloses nothing";
+    return out;
+  }
+  if (!body.mesh.empty()) {
+    std::map<std::pair<int, int>, int> uses;
+    for (const auto& t : body.mesh.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        ++uses[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto& [edge, count] : uses)
+      if (count != 2) {
+        std::ostringstream os;
+        os << "mesh edge (" << edge.first << ", " << edge.second << ") has " << count
+           << " triangle(s), not 2: the mesh is not closed";
+        out.reason = os.str();
+        return out;
+      }
+    out.closed = true;
+    out.reason = "every mesh edge has two triangles";
+    return out;
+  }
+  if (body.faces.empty()) {
+    out.reason = "the body has no faces (curves only)";
+    return out;
+  }
+  const bool brep = !body.edges.empty();
+  for (std::size_t k = 0; k < body.edges.size(); ++k)
+    if (body.edges[k].curve && body.edges[k].uses.size() != 2) {  // a pole edge has no curve
+      std::ostringstream os;
+      os << "B-rep edge " << k << " bounds " << body.edges[k].uses.size()
+         << " face(s), not 2: the shell is not closed";
+      out.reason = os.str();
+      return out;
+    }
+  // Patch sides: each wraps, collapses, or lies on a side of another face (untrimmed faces).
+  const Bbox_3 box = body.hull_bbox();
+  const double size = Vec3(box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()).norm();
+  const double tol = 1e-8 * size;
+  struct Free_side {
+    int face, side;
+  };
+  std::vector<Free_side> free_sides;
+  for (std::size_t i = 0; i < body.faces.size(); ++i) {
+    const Face& f = body.faces[i];
+    if (!f.trims.empty()) {
+      if (!brep) {
+        std::ostringstream os;
+        os << "face " << i << " is trimmed but the body has no B-rep edges to close it";
+        out.reason = os.str();
+        return out;
+      }
+      continue;  // its boundary is B-rep edges, each shared by two faces (checked above)
+    }
+    const Feature feature = Feature::surface(f.surface);
+    const unsigned collapsed = feature.collapsed_edges();
+    for (int side = 0; side < 4; ++side) {
+      const bool wraps = side < 2 ? f.surface.is_closed_u() : f.surface.is_closed_v();
+      if (wraps || (collapsed & (1u << side))) continue;
+      free_sides.push_back({static_cast<int>(i), side});
+    }
+  }
+  for (const Free_side& fs : free_sides) {
+    const Nurbs_surface_3& s = body.faces[fs.face].surface;
+    for (int k = 1; k <= 5; ++k) {
+      const Vec3 x = side_point(s, fs.side, k / 6.0);
+      bool matched = false;
+      for (const Free_side& other : free_sides) {
+        if (other.face == fs.face && other.side == fs.side) continue;
+        if (distance_to_side(body.faces[other.face].surface, other.side, x) <= tol) {
+          matched = true;
+          break;
+        }
+      }
+      if (!matched) {
+        static const char* names[] = {"u_min", "u_max", "v_min", "v_max"};
+        std::ostringstream os;
+        os << "face " << fs.face << ": its " << names[fs.side]
+           << " side is a free boundary (no other face meets it): the body is not closed";
+        out.reason = os.str();
+        return out;
+      }
+    }
+  }
+  out.closed = true;
+  out.reason = brep ? "every B-rep edge bounds two faces" : "every patch side wraps, collapses or meets another patch";
+  return out;
+}
+
+bool is_certified_convex(const Body& body) {
+  if (body.is_point) return true;
+  if (body.faces.size() != 1 || !body.curves.empty() || !body.mesh.empty()) return false;
+  const Face& f = body.faces.front();
+  if (!f.trims.empty() || (f.kind != "sphere" && f.kind != "ellipsoid")) return false;
+  return body_closedness(body).closed;
+}
+
+// ---- Winding number ------------------------------------------------------------------------
+
+Winding_number winding_number(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W,
+                              double clearance) {
+  EXTREMAL_PRECONDITION(clearance > 0.0);
+  static const double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                               0.9061798459386640};
+  static const double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                               0.4786286704993665, 0.2369268850561891};
+  Winding_number out;
+  const Vec3 x = X_W.inverse().apply_point(x_W);
+  const long max_cells = 2000000;
+  const int max_depth = 80;
+  double sum = 0.0;
+  bool failed = false;
+  struct Cell {
+    int net, depth;
+    double lo[2], hi[2];
+  };
+  Hom_vector pool;
+  std::vector<Cell> stack;
+  for (const auto& pc : H.pieces()) {
+    if (pc.dimension != 2 || failed) continue;
+    const auto& el = H.elements()[pc.element];
+    const Nurbs_surface_3& s = *el.feature.surface();
+    const double sign = s.outward_sign();
+    const int count = pc.nu * pc.nv;
+    pool.clear();
+    stack.clear();
+    pool.insert(pool.end(), H.poles() + pc.offset, H.poles() + pc.offset + count);
+    stack.push_back({0, 0, {pc.lo[0], pc.lo[1]}, {pc.hi[0], pc.hi[1]}});
+    while (!stack.empty()) {
+      const Cell c = stack.back();
+      stack.pop_back();
+      if (el.trimmed && !H.may_hold_trimmed(pc.element, c.lo, c.hi)) continue;
+      Vec3 bmin = Vec3::Constant(HUGE_VAL), bmax = Vec3::Constant(-HUGE_VAL);
+      for (int k = 0; k < count; ++k) {
+        const Vec3 p = pool[c.net + k].head<3>() / pool[c.net + k][3];
+        bmin = bmin.cwiseMin(p);
+        bmax = bmax.cwiseMax(p);
+      }
+      const double diag = (bmax - bmin).norm();
+      const double dist = std::max(internal::box_distance(bmin, bmax, x, x), clearance);
+      bool split = diag > 0.5 * dist;
+      double cell_sum = 0.0;
+      if (!split) {
+        int in = 0, total = 0;
+        const double ju = 0.5 * (c.hi[0] - c.lo[0]), jv = 0.5 * (c.hi[1] - c.lo[1]);
+        for (int i = 0; i < 5; ++i)
+          for (int j = 0; j < 5; ++j) {
+            const double q[2] = {c.lo[0] + ju * (1.0 + gx[i]), c.lo[1] + jv * (1.0 + gx[j])};
+            ++total;
+            if (el.trimmed && !H.on_body(pc.element, q)) continue;
+            ++in;
+            Surface_point sp;
+            s.evaluate(q[0], q[1], sp, 1);
+            const Vec3 r = sp.p - x;
+            const double r2 = r.squaredNorm();
+            cell_sum += gw[i] * gw[j] * r.dot(sp.du.cross(sp.dv)) / (r2 * std::sqrt(r2));
+          }
+        cell_sum *= sign * ju * jv;
+        // A trim boundary through the cell: refine until the cell is small against its
+        // distance, so the misclassified sliver weighs little.
+        if (in > 0 && in < total && diag > 0.05 * dist) split = true;
+      }
+      if (!split) {
+        sum += cell_sum;
+        ++out.cells;
+        continue;
+      }
+      if (c.depth >= max_depth || out.cells + static_cast<long>(stack.size()) > max_cells) {
+        failed = true;
+        break;
+      }
+      const int dir = c.depth % 2;
+      const int at = static_cast<int>(pool.size());
+      pool.resize(pool.size() + 2 * count);
+      internal::split_net_half(pool.data() + c.net, pc.nu, pc.nv, dir, pool.data() + at,
+                               pool.data() + at + count);
+      const double mid = 0.5 * (c.lo[dir] + c.hi[dir]);
+      Cell left = c, right = c;
+      left.net = at;
+      right.net = at + count;
+      left.depth = right.depth = c.depth + 1;
+      left.hi[dir] = mid;
+      right.lo[dir] = mid;
+      stack.push_back(left);
+      stack.push_back(right);
+    }
+  }
+  out.value = sum / (4.0 * M_PI);
+  out.determined = !failed && std::abs(out.value - std::round(out.value)) <= 0.25;
+  return out;
+}
+
+// ---- Hull signed distance: branch and bound over the direction sphere ----------------------
+
+namespace {
+
+Vec3 cube_point(int face, double u, double v) {
+  Vec3 x;
+  const int k = face / 2;
+  x[k] = (face % 2) ? -1.0 : 1.0;
+  x[(k + 1) % 3] = u;
+  x[(k + 2) % 3] = v;
+  return x;
+}
+
+double angle_between(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+// min over unit n within angle alpha of c of n.d.
+double cone_min(const Vec3& d, const Vec3& c, double alpha) {
+  const double dn = d.norm();
+  if (!(dn > 0.0)) return 0.0;
+  const double t = angle_between(c, d) + alpha;
+  return t >= M_PI ? -dn : dn * std::cos(t);
+}
+
+// Every point y of conv(A - B) bounds overlap(n) = max over conv(A - B) of n.x from below,
+// so over a cone the best bound from real differences d_i is the max over y in conv{d_i} of
+// cone_min(y), a concave function of y (|y| cos(angle + alpha) = cos(alpha) c.y -
+// sin(alpha) |y - c (c.y)|): Frank-Wolfe iterations with exact line searches. At a kink of
+// overlap (a hull edge or face: the support point jumps) a convex combination of the support
+// differences on both sides is parallel to the optimum, which keeps the bound second order.
+double hull_cone_min(const Vec3* d, int count, const Vec3& c, double alpha, Vec3* arg = nullptr) {
+  int start = 0;
+  double best = -HUGE_VAL;
+  for (int i = 0; i < count; ++i) {
+    const double v = cone_min(d[i], c, alpha);
+    if (v > best) {
+      best = v;
+      start = i;
+    }
+  }
+  if (arg) *arg = d[start];
+  if (count < 2) return best;
+  Vec3 y = d[start];
+  const double ca = std::cos(alpha), sa = std::sin(alpha);
+  for (int it = 0; it < 24; ++it) {
+    const Vec3 t = y - c * c.dot(y);
+    const double tn = t.norm();
+    const Vec3 g = ca * c - (tn > 0.0 ? Vec3(sa * t / tn) : Vec3::Zero());
+    int vertex = 0;
+    double top = -HUGE_VAL;
+    for (int i = 0; i < count; ++i)
+      if (g.dot(d[i]) > top) {
+        top = g.dot(d[i]);
+        vertex = i;
+      }
+    if (!(top > g.dot(y) + 1e-15 * (std::abs(top) + 1.0))) break;
+    // Ternary search of the concave cone_min on the segment [y, d_vertex].
+    double a = 0.0, b = 1.0;
+    for (int k = 0; k < 40; ++k) {
+      const double m1 = a + (b - a) / 3.0, m2 = b - (b - a) / 3.0;
+      if (cone_min(y + m1 * (d[vertex] - y), c, alpha) < cone_min(y + m2 * (d[vertex] - y), c, alpha))
+        a = m1;
+      else
+        b = m2;
+    }
+    const Vec3 next = y + 0.5 * (a + b) * (d[vertex] - y);
+    const double v = cone_min(next, c, alpha);
+    if (!(v > best)) break;
+    best = v;
+    y = next;
+    if (arg) *arg = y;
+  }
+  return best;
+}
+
+struct Direction_cell {
+  int face = 0;
+  double u0 = -1, u1 = 1, v0 = -1, v1 = 1;
+  Vec3 c = Vec3::UnitZ();
+  double alpha = 0.0;
+  double lower = -HUGE_VAL;
+  Vec3 d = Vec3::Zero();
+  bool has_d = false;
+};
+struct Lower_greater {
+  bool operator()(const Direction_cell& a, const Direction_cell& b) const { return a.lower > b.lower; }
+};
+
+struct Direction_eval {
+  Vec3 n = Vec3::UnitZ();
+  Support_bound a, b;
+  double upper() const { return a.upper + b.upper; }
+  bool has_points() const { return a.element >= 0 && b.element >= 0; }
+  Vec3 d() const { return a.point - b.point; }
+};
+
+}  // namespace
+
+Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const Rigid_pose_3& X_WA,
+                                            const Distance_hierarchy& HB, const Rigid_pose_3& X_WB,
+                                            const Signed_distance_request& request) {
+  EXTREMAL_PRECONDITION(request.absolute_tolerance > 0.0 && request.relative_tolerance >= 0.0);
+  EXTREMAL_PRECONDITION(request.max_cells > 0 && request.max_seconds >= 0.0);
+  const auto start = std::chrono::steady_clock::now();
+  Signed_distance_result out;
+  const double scale = HA.tree().front().radius + HB.tree().front().radius +
+                       X_WA.apply_point(HA.tree().front().centre).norm() +
+                       X_WB.apply_point(HB.tree().front().centre).norm();
+  const double abs_tol = std::max(request.absolute_tolerance, 4e-15 * scale);
+  Support_request sreq;
+  sreq.tolerance = std::max(0.2 * abs_tol, 1e-15 * scale);
+
+  auto evaluate = [&](const Vec3& n) {
+    Direction_eval e;
+    e.n = n;
+    e.a = support_bound(HA, X_WA, n, sreq);
+    e.b = support_bound(HB, X_WB, -n, sreq);
+    out.supports += 2;
+    return e;
+  };
+
+  Direction_eval best;
+  double U = HUGE_VAL;
+  // Real differences near the best direction (a ring of the latest), for the hull bounds.
+  constexpr int k_ring = 8;
+  Vec3 ring[k_ring + 2];
+  int ring_count = 0, ring_next = 0;
+  auto remember = [&](const Direction_eval& e) {
+    if (!e.has_points()) return;
+    ring[ring_next] = e.d();
+    ring_next = (ring_next + 1) % k_ring;
+    ring_count = std::min(ring_count + 1, k_ring);
+  };
+  auto consider = [&](const Direction_eval& e) {
+    if (e.upper() < U && e.has_points()) {
+      U = e.upper();
+      best = e;
+      remember(e);
+    }
+  };
+  // Lower bound over a cone from the ring plus up to two more differences.
+  auto cone_bound = [&](const Vec3& c, double alpha, const Vec3* extra, int extra_count) {
+    Vec3 d[k_ring + 2];
+    int n = 0;
+    for (int i = 0; i < ring_count; ++i) d[n++] = ring[i];
+    for (int i = 0; i < extra_count; ++i) d[n++] = extra[i];
+    return n > 0 ? hull_cone_min(d, n, c, alpha) : -HUGE_VAL;
+  };
+  auto make_cell = [&](int face, double u0, double u1, double v0, double v1, const Direction_cell* parent) {
+    Direction_cell c;
+    c.face = face;
+    c.u0 = u0;
+    c.u1 = u1;
+    c.v0 = v0;
+    c.v1 = v1;
+    c.c = cube_point(face, 0.5 * (u0 + u1), 0.5 * (v0 + v1)).normalized();
+    double alpha = 0.0;
+    for (int k = 0; k < 4; ++k)
+      alpha = std::max(alpha, angle_between(c.c, cube_point(face, (k & 1) ? u1 : u0, (k & 2) ? v1 : v0)));
+    c.alpha = alpha * (1.0 + 1e-12) + 1e-15;
+    const Direction_eval e = evaluate(c.c);
+    ++out.cells;
+    consider(e);
+    c.lower = parent ? parent->lower : -HUGE_VAL;
+    Vec3 extra[2];
+    int extra_count = 0;
+    if (e.has_points()) {
+      c.d = e.d();
+      c.has_d = true;
+      extra[extra_count++] = c.d;
+    }
+    if (parent && parent->has_d) extra[extra_count++] = parent->d;
+    c.lower = std::max(c.lower, cone_bound(c.c, c.alpha, extra, extra_count));
+    return c;
+  };
+
+  std::priority_queue<Direction_cell, std::vector<Direction_cell>, Lower_greater> heap;
+  std::vector<Direction_cell> initial;
+  const int split0 = 4;
+  for (int f = 0; f < 6; ++f)
+    for (int i = 0; i < split0; ++i)
+      for (int j = 0; j < split0; ++j) {
+        const double u0 = -1.0 + 2.0 * i / split0, u1 = -1.0 + 2.0 * (i + 1) / split0;
+        const double v0 = -1.0 + 2.0 * j / split0, v1 = -1.0 + 2.0 * (j + 1) / split0;
+        initial.push_back(make_cell(f, u0, u1, v0, v1, nullptr));
+      }
+
+  // Newton polish of the best direction on the sphere: the gradient of overlap is the
+  // tangential part of p - q; its Hessian by differences of gradients.
+  if (best.has_points()) {
+    Direction_eval cur = best;
+    for (int it = 0; it < 12; ++it) {
+      const Vec3 n = cur.n;
+      const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+      auto gradient = [&](const Direction_eval& e, const Vec3& v) {
+        const double len = v.norm();
+        const Vec3 m = v / len;
+        const Vec3 dn1 = (e1 - m * m.dot(e1)) / len, dn2 = (e2 - m * m.dot(e2)) / len;
+        return Eigen::Vector2d(e.d().dot(dn1), e.d().dot(dn2));
+      };
+      const Eigen::Vector2d g0 = gradient(cur, n);
+      const double delta = 1e-6;
+      Eigen::Matrix2d Hm;
+      bool ok = true;
+      for (int j = 0; j < 2; ++j) {
+        const Vec3 v = n + delta * (j == 0 ? e1 : e2);
+        const Direction_eval ej = evaluate(v.normalized());
+        if (!ej.has_points()) {
+          ok = false;
+          break;
+        }
+        Hm.col(j) = (gradient(ej, v) - g0) / delta;
+      }
+      if (!ok) break;
+      Hm = 0.5 * (Hm + Hm.transpose()).eval();
+      const Eigen::LLT<Eigen::Matrix2d> llt(Hm);
+      if (llt.info() != Eigen::Success) break;
+      Eigen::Vector2d step = -llt.solve(g0);
+      if (!step.allFinite()) break;
+      if (step.norm() > 0.3) step *= 0.3 / step.norm();
+      const Direction_eval next = evaluate((n + step[0] * e1 + step[1] * e2).normalized());
+      if (!next.has_points() || !(next.upper() < cur.upper())) break;
+      cur = next;
+      consider(cur);
+      if (step.norm() < 1e-12) break;
+    }
+  }
+  // Differences on every side of the best direction: where overlap has a kink there, the
+  // support points on either side span the optimum.
+  if (best.has_points()) {
+    const Vec3 n = best.n, e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    for (double step : {1e-5, 1e-3})
+      for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)}) {
+        const Direction_eval side = evaluate((n + step * t).normalized());
+        consider(side);
+        remember(side);
+      }
+  }
+  // Then along the hull: the point y of conv(differences) best aligned with the best direction
+  // (the largest bound over a small cone about it) points at the optimum of overlap, also at a
+  // kink, where Newton does not apply.
+  for (int it = 0; it < 12 && best.has_points(); ++it) {
+    Vec3 d[k_ring];
+    for (int i = 0; i < ring_count; ++i) d[i] = ring[i];
+    Vec3 y;
+    hull_cone_min(d, ring_count, best.n, 1e-3, &y);
+    if (!(y.norm() > 0.0)) break;
+    const Vec3 n = y.normalized();
+    if ((n - best.n).norm() < 1e-14) break;
+    const double before = U;
+    const Direction_eval at = evaluate(n);
+    consider(at);
+    remember(at);
+    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)}) {
+      const Direction_eval side = evaluate((n + 1e-6 * t).normalized());
+      consider(side);
+      remember(side);
+    }
+    if (!(U < before)) break;
+  }
+  for (Direction_cell& c : initial) {
+    const Vec3 own[1] = {c.d};
+    c.lower = std::max(c.lower, cone_bound(c.c, c.alpha, own, c.has_d ? 1 : 0));
+    if (c.lower <= U) heap.push(c);
+  }
+
+  Signed_distance_status status = Signed_distance_status::Penetrating;
+  double tol = abs_tol;
+  while (!heap.empty()) {
+    Direction_cell top = heap.top();
+    tol = std::max(abs_tol, request.relative_tolerance * std::abs(U));
+    if (U - top.lower <= tol) break;
+    // Tighten lazily with the best pair found since the cell was made.
+    const Vec3 own[1] = {top.d};
+    const double tightened = cone_bound(top.c, top.alpha, own, top.has_d ? 1 : 0);
+    if (tightened > top.lower) {
+      heap.pop();
+      top.lower = tightened;
+      if (top.lower <= U) heap.push(top);
+      continue;
+    }
+    if (out.cells >= request.max_cells) {
+      status = Signed_distance_status::Budget_exhausted;
+      break;
+    }
+    if (request.max_seconds > 0.0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+            request.max_seconds) {
+      status = Signed_distance_status::Budget_exhausted;
+      break;
+    }
+    if (top.alpha < 1e-13) {
+      status = Signed_distance_status::Resolution_limit;
+      break;
+    }
+    heap.pop();
+    const double um = 0.5 * (top.u0 + top.u1), vm = 0.5 * (top.v0 + top.v1);
+    const Direction_cell children[4] = {make_cell(top.face, top.u0, um, top.v0, vm, &top),
+                                        make_cell(top.face, um, top.u1, top.v0, vm, &top),
+                                        make_cell(top.face, top.u0, um, vm, top.v1, &top),
+                                        make_cell(top.face, um, top.u1, vm, top.v1, &top)};
+    for (const Direction_cell& c : children)
+      if (c.lower <= U) heap.push(c);
+  }
+  const double L = heap.empty() ? U : std::min(U, heap.top().lower);
+  out.status = status;
+  out.lower_bound = -U;
+  out.upper_bound = -L;
+  out.tolerance_used = tol;
+  if (best.has_points()) {
+    out.distance = std::clamp(-(best.a.lower + best.b.lower), out.lower_bound, out.upper_bound);
+    out.point_a = best.a.point;
+    out.point_b = best.b.point;
+    out.normal = best.n;
+    auto fill = [](const Distance_hierarchy& H, const Support_bound& s, Element_kind& kind, int& element,
+                   int& face, std::array<double, 2>& params) {
+      const auto& el = H.elements()[s.element];
+      kind = el.kind;
+      element = el.kind == Element_kind::Point ? 0 : el.index;
+      face = el.kind == Element_kind::Face ? el.index : -1;
+      params = s.params;
+    };
+    fill(HA, best.a, out.kind_a, out.element_a, out.face_a, out.params_a);
+    fill(HB, best.b, out.kind_b, out.element_b, out.face_b, out.params_b);
+  } else {
+    out.distance = out.lower_bound;
+    out.status = Signed_distance_status::Budget_exhausted;  // no real point on a body
+  }
+  return out;
+}
+
+// ---- Signed distance -----------------------------------------------------------------------
+
+namespace {
+
+// One real point of each face (up to 32 spread over the body), curve and point element, world.
+std::vector<Vec3> sample_points(const Distance_hierarchy& H, const Rigid_pose_3& X_W) {
+  std::vector<Vec3> out;
+  const auto& elements = H.elements();
+  const int n = static_cast<int>(elements.size());
+  const int stride = std::max(1, n / 32);
+  for (int e = 0; e < n; e += stride) {
+    const auto& el = elements[e];
+    bool found = false;
+    for (int p = el.first_piece; p < el.first_piece + el.piece_count && !found; ++p) {
+      const auto& pc = H.pieces()[p];
+      const int corners = pc.dimension == 2 ? 4 : pc.dimension == 1 ? 2 : 1;
+      for (int k = 0; k < corners && !found; ++k) {
+        double q[2];
+        corner_params(pc.lo, pc.hi, k, q);
+        if (pc.dimension < 2) q[1] = 0.0;
+        if (!H.on_body(pc.element, q)) continue;
+        const Hom& P = H.poles()[pc.offset + corner_pole(pc.nu, pc.nv, k)];
+        out.push_back(X_W.apply_point(P.head<3>() / P[3]));
+        found = true;
+      }
+    }
+  }
+  return out;
+}
+
+Signed_distance_status from_distance_status(Distance_status s) {
+  switch (s) {
+    case Distance_status::Budget_exhausted: return Signed_distance_status::Budget_exhausted;
+    case Distance_status::Resolution_limit: return Signed_distance_status::Resolution_limit;
+    case Distance_status::Touching: return Signed_distance_status::Touching;
+    default: return Signed_distance_status::Converged;
+  }
+}
+
+}  // namespace
+
+Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& HA,
+                                       const Rigid_pose_3& X_WA, const Body& B,
+                                       const Distance_hierarchy& HB, const Rigid_pose_3& X_WB,
+                                       const Signed_distance_request& request) {
+  EXTREMAL_PRECONDITION(request.absolute_tolerance > 0.0 && request.relative_tolerance >= 0.0);
+  EXTREMAL_PRECONDITION(request.max_cells > 0 && request.max_seconds >= 0.0);
+  Distance_request dreq = request.apart;
+  dreq.absolute_tolerance = request.absolute_tolerance;
+  dreq.relative_tolerance = request.relative_tolerance;
+  const Distance_result r = extremal_distance(HA, X_WA, HB, X_WB, dreq);
+  const Closedness closed_a = body_closedness(A), closed_b = body_closedness(B);
+
+  Overlap_kind overlap = Overlap_kind::None;
+  bool unknown = false;
+  long winding_cells = 0;
+  if (r.status == Distance_status::Intersecting || r.status == Distance_status::Touching) {
+    overlap = Overlap_kind::Surfaces_meet;
+  } else if (r.lower_bound > 0.0) {
+    auto inside = [&](const Distance_hierarchy& inner, const Rigid_pose_3& X_in,
+                      const Distance_hierarchy& outer, const Rigid_pose_3& X_out) {
+      for (const Vec3& x : sample_points(inner, X_in)) {
+        const Winding_number w = winding_number(outer, X_out, x, r.lower_bound);
+        winding_cells += w.cells;
+        if (!w.determined) unknown = true;
+        if (w.inside()) return true;
+      }
+      return false;
+    };
+    if (closed_b.closed && inside(HA, X_WA, HB, X_WB)) overlap = Overlap_kind::A_inside_B;
+    else if (closed_a.closed && inside(HB, X_WB, HA, X_WA)) overlap = Overlap_kind::B_inside_A;
+  }
+
+  Signed_distance_result out;
+  if (overlap == Overlap_kind::None) {
+    out.status = from_distance_status(r.status);
+    if (unknown && out.status == Signed_distance_status::Converged)
+      out.status = Signed_distance_status::Containment_unknown;
+    out.distance = r.distance;
+    out.lower_bound = r.lower_bound;
+    out.upper_bound = r.upper_bound;
+    out.point_a = r.point_a;
+    out.point_b = r.point_b;
+    out.normal = r.normal;
+    out.kind_a = r.kind_a;
+    out.kind_b = r.kind_b;
+    out.element_a = r.element_a;
+    out.element_b = r.element_b;
+    out.face_a = r.face_a;
+    out.face_b = r.face_b;
+    out.params_a = r.params_a;
+    out.params_b = r.params_b;
+    out.tolerance_used = r.tolerance_used;
+  } else {
+    out = hull_signed_distance(HA, X_WA, HB, X_WB, request);
+    out.depth_is_translation_distance = is_certified_convex(A) && is_certified_convex(B);
+    if (overlap == Overlap_kind::Surfaces_meet && r.status == Distance_status::Touching &&
+        out.status == Signed_distance_status::Penetrating && out.lower_bound >= -out.tolerance_used)
+      out.status = Signed_distance_status::Touching;
+  }
+  out.overlap = overlap;
+  out.closed_a = closed_a;
+  out.closed_b = closed_b;
+  out.apart = r;
+  out.winding_cells = winding_cells;
+  return out;
+}
+
+Signed_distance_result signed_distance(const Body& A, const Rigid_pose_3& X_WA, const Body& B,
+                                       const Rigid_pose_3& X_WB, const Signed_distance_request& request) {
+  const Distance_hierarchy HA(A), HB(B);
+  return signed_distance(A, HA, X_WA, B, HB, X_WB, request);
+}
+
+}  // namespace extremal
