@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
 #include <Eigen/Dense>
 
 #include "algorithms/Feature.h"
@@ -286,8 +288,28 @@ Support_bound support_bound(const Distance_hierarchy& H, const Rigid_pose_3& X_W
       floor_upper = std::max(floor_upper, top.key);  // cannot split further
       continue;
     }
-    // Halve along the first parameter for curves; alternate for surfaces.
-    const int dir = pc.dimension == 1 ? 0 : (top.depth % 2);
+    // Halve along the first parameter for curves; for surfaces along the direction in which
+    // n.P varies most within the net's rows or columns (near a pole one direction barely
+    // moves the point, and halving it gains nothing).
+    int dir = 0;
+    if (pc.dimension == 2) {
+      const Hom* net = pool.data() + top.net;
+      double var[2] = {0.0, 0.0};
+      for (int line = 0; line < 2; ++line) {
+        const int outer = line == 0 ? pc.nv : pc.nu, inner = line == 0 ? pc.nu : pc.nv;
+        for (int a = 0; a < outer; ++a) {
+          double lo = HUGE_VAL, hi = -HUGE_VAL;
+          for (int b = 0; b < inner; ++b) {
+            const Hom& P = line == 0 ? net[b * pc.nv + a] : net[a * pc.nv + b];
+            const double v = n.dot(P.head<3>() / P[3]);
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+          }
+          var[line] = std::max(var[line], hi - lo);
+        }
+      }
+      dir = var[1] > var[0] ? 1 : 0;
+    }
     const int at = static_cast<int>(pool.size());
     pool.resize(pool.size() + 2 * count);
     internal::split_net_half(pool.data() + top.net, pc.nu, pc.nv, dir, pool.data() + at,
@@ -581,13 +603,18 @@ Winding_number winding_number(const Distance_hierarchy& H, const Rigid_pose_3& X
 
 namespace {
 
+// Points of the cube [-1, 1]^3 on face `face`, turned by a fixed generic rotation: CAD parts
+// have kinks of overlap(n) (hull faces and edges) along coordinate planes, which would
+// otherwise run along cell boundaries, where no cell straddles them and every bound stays one
+// sided (first order).
 Vec3 cube_point(int face, double u, double v) {
+  static const Mat3 turn = Eigen::Quaterniond(0.8733, 0.3104, 0.2647, 0.2634).normalized().toRotationMatrix();
   Vec3 x;
   const int k = face / 2;
   x[k] = (face % 2) ? -1.0 : 1.0;
   x[(k + 1) % 3] = u;
   x[(k + 2) % 3] = v;
-  return x;
+  return turn * x;
 }
 
 double angle_between(const Vec3& a, const Vec3& b) {
@@ -703,7 +730,7 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
   double U = HUGE_VAL;
   // Real differences near the best direction (a ring of the latest), for the hull bounds.
   constexpr int k_ring = 8;
-  Vec3 ring[k_ring + 2];
+  Vec3 ring[k_ring];
   int ring_count = 0, ring_next = 0;
   auto remember = [&](const Direction_eval& e) {
     if (!e.has_points()) return;
@@ -718,14 +745,20 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
       remember(e);
     }
   };
-  // Lower bound over a cone from the ring plus up to two more differences.
+  // The vertices of the expanding polytope's last face (see below), kept apart from the ring.
+  constexpr int k_anchors = 11;
+  Vec3 anchors[k_anchors];
+  int anchor_count = 0;
+  // Lower bound over a cone from the ring and anchors plus up to two more differences.
   auto cone_bound = [&](const Vec3& c, double alpha, const Vec3* extra, int extra_count) {
-    Vec3 d[k_ring + 2];
+    Vec3 d[k_ring + k_anchors + 5];
     int n = 0;
     for (int i = 0; i < ring_count; ++i) d[n++] = ring[i];
+    for (int i = 0; i < anchor_count; ++i) d[n++] = anchors[i];
     for (int i = 0; i < extra_count; ++i) d[n++] = extra[i];
     return n > 0 ? hull_cone_min(d, n, c, alpha) : -HUGE_VAL;
   };
+  std::vector<Vec3> samples;  // support differences of the initial cells (real points of A - B)
   auto make_cell = [&](int face, double u0, double u1, double v0, double v1, const Direction_cell* parent) {
     Direction_cell c;
     c.face = face;
@@ -748,6 +781,7 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
       c.d = e.d();
       c.has_d = true;
       extra[extra_count++] = c.d;
+      if (!parent) samples.push_back(c.d);
     }
     if (parent && parent->has_d) extra[extra_count++] = parent->d;
     c.lower = std::max(c.lower, cone_bound(c.c, c.alpha, extra, extra_count));
@@ -805,6 +839,60 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
       if (step.norm() < 1e-12) break;
     }
   }
+  // Expanding polytope (as EPA): P = conv(samples) lies in K = conv(A - B), whose support
+  // function is overlap. When the origin is inside P, the face of P nearest to it gives a
+  // direction n_f; the support of K along n_f either lies on that face (n_f is optimal to the
+  // tolerance) or is a new vertex. This finds the optimum at kinks of overlap (hull edges and
+  // faces, continua of support points) where Newton's method does not apply; its last face's
+  // vertices span a difference parallel to the optimum, which the cone bounds then use.
+  if (best.has_points() && samples.size() >= 4) {
+    std::vector<Point_3> pts;
+    for (const Vec3& d : samples) pts.emplace_back(d.x(), d.y(), d.z());
+    for (int i = 0; i < ring_count; ++i) pts.emplace_back(ring[i].x(), ring[i].y(), ring[i].z());
+    Vec3 last_face[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    bool have_face = false;
+    int stalled = 0;  // iterations without a better upper bound (a continuum of optima)
+    for (int it = 0; it < 100 && stalled < 25; ++it) {
+      CGAL::Surface_mesh<Point_3> hull;
+      CGAL::convex_hull_3(pts.begin(), pts.end(), hull);
+      if (hull.number_of_faces() < 4) break;
+      Vec3 centroid = Vec3::Zero();
+      for (auto v : hull.vertices()) centroid += to_vec3(hull.point(v));
+      centroid /= static_cast<double>(hull.number_of_vertices());
+      double nearest = HUGE_VAL;
+      Vec3 normal = Vec3::Zero(), face[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+      for (auto f : hull.faces()) {
+        Vec3 x[3];
+        int k = 0;
+        for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull))
+          if (k < 3) x[k++] = to_vec3(hull.point(v));
+        Vec3 m = (x[1] - x[0]).cross(x[2] - x[0]);
+        if (!(m.norm() > 0.0)) continue;
+        m.normalize();
+        if (m.dot(x[0] - centroid) < 0.0) m = -m;
+        const double offset = m.dot(x[0]);
+        if (offset < nearest) {
+          nearest = offset;
+          normal = m;
+          face[0] = x[0];
+          face[1] = x[1];
+          face[2] = x[2];
+        }
+      }
+      if (!(nearest > 0.0) || !(normal.norm() > 0.0)) break;  // origin not inside P
+      for (int k = 0; k < 3; ++k) last_face[k] = face[k];
+      have_face = true;
+      const Direction_eval at = evaluate(normal);
+      const double before = U;
+      consider(at);
+      stalled = U < before ? 0 : stalled + 1;
+      if (!at.has_points()) break;
+      if (normal.dot(at.d()) - nearest <= 0.25 * abs_tol) break;
+      pts.emplace_back(at.d().x(), at.d().y(), at.d().z());
+    }
+    if (have_face)
+      for (const Vec3& x : last_face) anchors[anchor_count++] = x;
+  }
   // Differences on every side of the best direction: where overlap has a kink there, the
   // support points on either side span the optimum.
   if (best.has_points()) {
@@ -838,6 +926,17 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
       remember(side);
     }
     if (!(U < before)) break;
+  }
+  // Anchors: differences on both sides of the final best direction in two orthogonal
+  // directions (a kink there is spanned by them), kept for every cell's bound.
+  if (best.has_points()) {
+    const Vec3 n = best.n, e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    for (double step : {1e-6, 1e-4})
+      for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)}) {
+        const Direction_eval side = evaluate((n + step * t).normalized());
+        consider(side);
+        if (side.has_points() && anchor_count < k_anchors) anchors[anchor_count++] = side.d();
+      }
   }
   for (Direction_cell& c : initial) {
     const Vec3 own[1] = {c.d};
@@ -876,12 +975,21 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
     }
     heap.pop();
     const double um = 0.5 * (top.u0 + top.u1), vm = 0.5 * (top.v0 + top.v1);
-    const Direction_cell children[4] = {make_cell(top.face, top.u0, um, top.v0, vm, &top),
-                                        make_cell(top.face, um, top.u1, top.v0, vm, &top),
-                                        make_cell(top.face, top.u0, um, vm, top.v1, &top),
-                                        make_cell(top.face, um, top.u1, vm, top.v1, &top)};
+    Direction_cell children[4] = {make_cell(top.face, top.u0, um, top.v0, vm, &top),
+                                  make_cell(top.face, um, top.u1, top.v0, vm, &top),
+                                  make_cell(top.face, top.u0, um, vm, top.v1, &top),
+                                  make_cell(top.face, um, top.u1, vm, top.v1, &top)};
+    // Siblings' differences too: where a kink of overlap crosses the parent, siblings on
+    // either side of it span the differences in between.
+    Vec3 family[5];
+    int family_count = 0;
     for (const Direction_cell& c : children)
+      if (c.has_d) family[family_count++] = c.d;
+    if (top.has_d) family[family_count++] = top.d;
+    for (Direction_cell& c : children) {
+      c.lower = std::max(c.lower, cone_bound(c.c, c.alpha, family, family_count));
       if (c.lower <= U) heap.push(c);
+    }
   }
   const double L = heap.empty() ? U : std::min(U, heap.top().lower);
   out.status = status;

@@ -28,16 +28,27 @@
 // overlap_up(n) >= overlap(n) >= min overlap. Real surface points p on A and q on B give, for
 // every n, overlap(n) >= n.(p - q); over a cone of directions of axis c and half-angle a,
 //     min overlap over the cone >= |p - q| cos(angle(c, p - q) + a),
-// which is second order in a when p - q is (nearly) parallel to the optimum. A best-first
-// branch and bound over cells of the direction sphere (the 6 faces of the cube, subdivided in
-// quadtrees) with these bounds, after a Newton polish of the best direction (gradient of
-// overlap on the sphere: the tangential part of p - q; Hessian by differences), gives
+// which is second order in a when p - q is (nearly) parallel to the optimum; more generally
+// every point y of conv{p_i - q_i} (inside conv(A - B), whose support function is overlap)
+// gives |y| cos(angle(c, y) + a), maximised over y by Frank-Wolfe iterations, which keeps the
+// bound second order at kinks of overlap (a hull edge or face: the support points jump, and a
+// combination of the differences on both sides is parallel to the optimum). A best-first
+// branch and bound over cells of the direction sphere (the 6 faces of a cube, turned by a
+// fixed generic rotation so that kinks along coordinate planes do not run along cell
+// boundaries, subdivided in quadtrees) with these bounds gives
 //     lower_bound = -min overlap_up <= s <= upper_bound = -(smallest cell lower bound).
-// It stops at the tolerance (status Penetrating), or when the cell or time budget is spent
-// (Budget_exhausted) or the cells reach floating-point size (Resolution_limit), with the
-// bounds so far. Trimmed CAD faces: a piece covers its whole patch, so its net bounds the
-// trimmed face conservatively; sub-nets wholly outside the trim are dropped, and real points
-// count only inside the trim (the B-rep edge curves carry supports on trim boundaries).
+// Before it, the best sampled direction is polished: Newton's method on the sphere (gradient of
+// overlap: the tangential part of p - q; Hessian by differences of gradients) for smooth
+// minima, then an expanding polytope (as EPA: the face of conv(differences) nearest the origin
+// gives the next direction) for kinks, and the differences on either side of the result are
+// kept for every cell's bound. It stops at the tolerance (status Penetrating), or when the cell
+// or time budget is spent (Budget_exhausted) or the cells reach floating-point size
+// (Resolution_limit), with the bounds so far. A continuum of minimising directions (concentric
+// balls) exhausts the budget. Trimmed CAD faces: a piece covers its whole patch, so its net
+// bounds the trimmed face conservatively; sub-nets wholly outside the trim are dropped, and so
+// are sub-nets on which the gradient of n.f provably does not vanish (a maximiser there would
+// lie on a trim boundary, which a B-rep edge curve element carries), and real points count
+// only inside the trim (with its On_boundary band).
 //
 // Containment (one body inside the other while their surfaces are apart). A body contains
 // something only when it is closed (body_closedness: every B-rep edge shared by two faces;
