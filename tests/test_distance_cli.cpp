@@ -170,5 +170,32 @@ TEST(DistanceCli, SignedStepPartWithAShapeThroughIt) {
   EXPECT_GE(j["upper_bound"].get<double>(), truth - 1e-12);
 }
 
+// pr2ct.stp is a closed 200 mm box [0, 200]^3 (six trimmed planar faces): a ball of radius 30
+// at its centre is inside it with surfaces 70 mm apart (b_inside_a, found by the winding
+// number), and leaves the box's hull after 100 + 30 mm along any axis; a ball through its
+// +x face at x = 190 leaves it after 200 - 190 + 30 = 40 mm along +x.
+TEST(DistanceCli, SignedStepBoxNestsABall) {
+  const std::string file = std::string(EXTREMAL_SHARED_DATA) + "/step/pr2ct.stp";
+  Cli_run r = run("distance " + file + " sphere:30 --pose-b 100,100,100 --signed --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["status"], "penetrating");
+  EXPECT_EQ(j["overlap"], "b_inside_a");
+  EXPECT_EQ(j["closed_a"]["closed"], true);
+  EXPECT_GT(j["work"]["winding_cells"].get<long>(), 0);
+  EXPECT_NEAR(j["distance"].get<double>(), -130.0, 1e-9);
+  EXPECT_LE(j["lower_bound"].get<double>(), -130.0 + 1e-12);
+  EXPECT_GE(j["upper_bound"].get<double>(), -130.0 - 1e-12);
+
+  r = run("distance " + file + " sphere:30 --pose-b 190,100,120 --signed --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["overlap"], "surfaces_meet");
+  EXPECT_NEAR(j["distance"].get<double>(), -40.0, 1e-9);
+  EXPECT_LE(j["lower_bound"].get<double>(), -40.0 + 1e-12);
+  EXPECT_GE(j["upper_bound"].get<double>(), -40.0 - 1e-12);
+  EXPECT_NEAR((vec(j["normal"]) - Vec3(1, 0, 0)).norm(), 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace extremal
