@@ -738,9 +738,11 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
     ring_next = (ring_next + 1) % k_ring;
     ring_count = std::min(ring_count + 1, k_ring);
   };
+  double best_upper = HUGE_VAL;  // of `best`; U also counts directions with no real point
   auto consider = [&](const Direction_eval& e) {
-    if (e.upper() < U && e.has_points()) {
-      U = e.upper();
+    U = std::min(U, e.upper());
+    if (e.has_points() && e.upper() < best_upper) {
+      best_upper = e.upper();
       best = e;
       remember(e);
     }
@@ -1012,8 +1014,11 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
     fill(HA, best.a, out.kind_a, out.element_a, out.face_a, out.params_a);
     fill(HB, best.b, out.kind_b, out.element_b, out.face_b, out.params_b);
   } else {
+    // No real point on a body (every sampled support outside the trims): only the upper
+    // bounds on h hold, so s has a lower bound and no upper bound.
     out.distance = out.lower_bound;
-    out.status = Signed_distance_status::Budget_exhausted;  // no real point on a body
+    out.upper_bound = HUGE_VAL;
+    out.status = Signed_distance_status::Budget_exhausted;
   }
   return out;
 }
