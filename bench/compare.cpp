@@ -19,11 +19,13 @@
 // Prints one Markdown table per scenario with the speed-up over each peer, the targets, and
 // writes bench/results/compare_<scenario>.svg (log-log time against error).
 //
-// Usage: compare [--quick] [--trackers-only] [--out DIR] [--data DIR] [a] [b] [c]
+// Usage: compare [--quick] [--trackers-only] [--rate HZ] [--out DIR] [--data DIR] [a] [b] [c]
+// (--rate: only the tracker rows at that rate, for profiling one rate under callgrind.)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -693,7 +695,8 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
   return s;
 }
 
-void run_scenario(Scenario& s, bool quick, bool trackers_only, const std::string& out_dir) {
+void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
+                  const std::string& out_dir) {
   Reference_cache ref(s);
   std::vector<Row> rows;
   const auto t_start = Clock::now();
@@ -709,6 +712,7 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, const std::string
     for (double rate : rates) configs.push_back({rate, 1.0, 10, static_cast<int>(rate / 10)});
   }
   for (const Tracker_config& c : configs) {
+    if (only_rate > 0.0 && c.rate != only_rate) continue;
     rows.push_back(run_tracker(s, ref, c));
     std::fprintf(stderr, "(%s) %s %s: %.0f s\n", s.key.c_str(), rows.back().method.c_str(),
                  rows.back().setting.c_str(), micros_since(t_start) * 1e-6);
@@ -741,6 +745,7 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, const std::string
 
 int main(int argc, char** argv) {
   bool quick = false, trackers_only = false;
+  double only_rate = 0.0;
   std::string out_dir = "bench/results";
   std::string data = EXTREMAL_SHARED_DATA;
   std::vector<std::string> only;
@@ -749,6 +754,8 @@ int main(int argc, char** argv) {
       quick = true;
     else if (!std::strcmp(argv[i], "--trackers-only"))
       trackers_only = true;
+    else if (!std::strcmp(argv[i], "--rate") && i + 1 < argc)
+      only_rate = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
       out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
@@ -764,16 +771,16 @@ int main(int argc, char** argv) {
   try {
     if (wanted("a")) {
       Scenario a = seed_ellipsoids(quick);
-      run_scenario(a, quick, trackers_only, out_dir);
+      run_scenario(a, quick, trackers_only, only_rate, out_dir);
     }
     if (wanted("b")) {
       Scenario b = crate_and_ellipsoid(quick);
-      run_scenario(b, quick, trackers_only, out_dir);
+      run_scenario(b, quick, trackers_only, only_rate, out_dir);
     }
     if (wanted("c")) {
       bool ok = false;
       Scenario c = step_parts(quick, data, ok);
-      if (ok) run_scenario(c, quick, trackers_only, out_dir);
+      if (ok) run_scenario(c, quick, trackers_only, only_rate, out_dir);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "compare: %s\n", e.what());
