@@ -70,6 +70,37 @@ bool near_pose(const Rigid_pose_3& x, const Rigid_pose_3& y, double length) {
          (x.translation() - y.translation()).cwiseAbs().maxCoeff() <= 1e-14 * length;
 }
 
+// How much closer the relative motion from X0 to X1 (poses X_AB: B's frame in A's) can have
+// brought a primitive of A (body-frame box box_a) and one of B (box_b): the largest
+// displacement of a point of B's box in A's frame, or of A's box in B's frame, whichever bound
+// is smaller. Over the ball (c, r) that holds a box, |(R1 - R0) p + t1 - t0| <=
+// |(R1 - R0) c + t1 - t0| + |R1 - R0|_F r. (Distances between rigid placements depend on the
+// relative pose only, and change by at most the largest displacement of either side.)
+double approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_pose_3& X0,
+                      const Rigid_pose_3& X1) {
+  const Mat3 dR = X1.rotation() - X0.rotation();
+  const double spin = dR.norm();  // Frobenius, >= the spectral norm
+  const Vec3 ca(0.5 * (box_a.xmin() + box_a.xmax()), 0.5 * (box_a.ymin() + box_a.ymax()),
+                0.5 * (box_a.zmin() + box_a.zmax()));
+  const Vec3 cb(0.5 * (box_b.xmin() + box_b.xmax()), 0.5 * (box_b.ymin() + box_b.ymax()),
+                0.5 * (box_b.zmin() + box_b.zmax()));
+  const double ra = 0.5 * diagonal(box_a), rb = 0.5 * diagonal(box_b);
+  const Vec3& t0 = X0.translation();
+  const Vec3& t1 = X1.translation();
+  const double move_b = (dR * cb + (t1 - t0)).norm() + spin * rb;
+  // A in B's frame: X_BA = (R^T, -R^T t).
+  const Vec3 dt_inverse = X0.rotation().transpose() * t0 - X1.rotation().transpose() * t1;
+  const double move_a = (dR.transpose() * ca + dt_inverse).norm() + spin * ra;
+  // Rounding of these products: a few ulps of the lengths involved.
+  const double size = ca.norm() + ra + cb.norm() + rb + t0.norm() + t1.norm();
+  return std::min(move_a, move_b) + 16.0 * std::numeric_limits<double>::epsilon() * size;
+}
+
+// A new pair's restricted solve is cut off this many steps' worth of the pair's relative
+// motion above the tracked minimum, so that its certified lower bound clears the next steps'
+// checks without a solve; nothing found below the cutoff costs little.
+constexpr double k_slack_steps = 8.0;
+
 bool closed_form_pair(const Primitive& a, const Primitive& b) {
   const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
   return (ta && (tb || b.kind == Primitive_kind::Point)) || (tb && a.kind == Primitive_kind::Point);
@@ -289,31 +320,62 @@ void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
 
 void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                       double best) {
+  for (Candidate& c : m_candidates) c.tracked = false;
+  for (const Live& L : m_live) {
+    if (!L.alive) continue;
+    const int i = find_candidate(pair_key(L.pa, L.pb));
+    if (i >= 0) m_candidates[i].tracked = true;
+  }
+  const double tol = std::max(m_options.seeding.absolute_tolerance,
+                              m_options.seeding.relative_tolerance * best);
+  const double need = best - tol;  // a pair certified at or above this holds nothing closer
   bool seeded = false;
-  for (std::size_t c = 0; c < m_candidates.size(); ++c) {
-    if (tracks(m_candidates[c])) continue;
-    const int pa = key_a(m_candidates[c]), pb = key_b(m_candidates[c]);
+  for (Candidate& C : m_candidates) {
+    if (C.tracked) continue;
+    const int pa = key_a(C.key), pb = key_b(C.key);
     const Primitive& A = m_model_a->primitives()[pa];
     const Primitive& B = m_model_b->primitives()[pb];
     if (A.global_element < 0 || B.global_element < 0 || closed_form_pair(A, B)) continue;
-    const double tol = std::max(m_options.seeding.absolute_tolerance,
-                                m_options.seeding.relative_tolerance * best);
-    if (box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)) >= best - tol) continue;
+    ++m_report.vacated_checks;
+    // The bound carried from an earlier step, less how much closer the pair can have come.
+    if (C.lower - approach_bound(A.box, B.box, C.at, m_relative) >= need) continue;
+    const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
+    if (boxes >= need) {
+      C.lower = boxes;
+      C.at = m_relative;
+      continue;
+    }
+    // The certified solver on the pair, cut off a few steps' motion above `need`: it seeds the
+    // pair when it holds something closer than the tracked minimum, and otherwise leaves a
+    // lower bound that stays clear of `need` for the next steps.
+    ++m_report.vacated_solves;
+    const double step_motion = approach_bound(A.box, B.box, m_previous_relative, m_relative);
     Distance_request request = m_options.seeding;
-    request.cutoff = best - tol;
+    request.cutoff = need + std::max(4.0 * tol, k_slack_steps * step_motion);
     const Distance_result g =
         extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
                                   m_model_b->hierarchy(), X_WB, B.global_element, request,
                                   m_workspace);
-    if (g.element_a < 0 || g.element_b < 0) continue;
+    C.lower = g.lower_bound;
+    C.at = m_relative;
+    if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
     add_live(pa, pb, params);
     ++m_report.seeds;
+    ++m_report.vacated_seeds;
+    C.tracked = true;
     seeded = true;
   }
   if (seeded) step_pending();
+}
+
+int Body_pair_tracker::find_candidate(std::uint64_t key) const {
+  const auto it = std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
+                                   [](const Candidate& c, std::uint64_t k) { return c.key < k; });
+  return it != m_candidates.end() && it->key == key ? static_cast<int>(it - m_candidates.begin())
+                                                    : -1;
 }
 
 void Body_pair_tracker::step_pending() {
@@ -361,15 +423,23 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
     m_world_b.push_back(transformed(B.primitives()[p].box, X_WB));
     bb.emplace_back(inflate(m_world_b.back(), 0.5 * reach), static_cast<int>(m_world_b.size()) - 1);
   }
+  const Rigid_pose_3 relative = X_WA.inverse() * X_WB;
   m_next_candidates.clear();
   CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(),
                            [&](const Box& x, const Box& y) {
                              const int i = x.info(), j = y.info();
-                             if (box_distance(m_world_a[i], m_world_b[j]) > reach) return;
-                             m_next_candidates.push_back(pair_key(m_prims_a[i], m_prims_b[j]));
+                             const double d = box_distance(m_world_a[i], m_world_b[j]);
+                             if (d > reach) return;
+                             Candidate c;
+                             c.key = pair_key(m_prims_a[i], m_prims_b[j]);
+                             c.lower = d;  // the boxes hold the primitives
+                             c.at = relative;
+                             m_next_candidates.push_back(c);
                            });
-  std::sort(m_next_candidates.begin(), m_next_candidates.end());
-  // Pairs that left: their trackers go. Pairs that entered: seeded.
+  std::sort(m_next_candidates.begin(), m_next_candidates.end(),
+            [](const Candidate& x, const Candidate& y) { return x.key < y.key; });
+  // Pairs that left: their trackers go. Pairs that entered: seeded. Pairs that stayed keep
+  // their carried bound unless the box distance now is at least as high.
   std::size_t i = 0, j = 0;
   auto drop = [&](std::uint64_t key) {
     for (std::size_t k = 0; k < m_live.size(); ++k)
@@ -377,25 +447,31 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
   };
   while (i < m_candidates.size() || j < m_next_candidates.size()) {
     if (j == m_next_candidates.size() ||
-        (i < m_candidates.size() && m_candidates[i] < m_next_candidates[j])) {
-      drop(m_candidates[i++]);
-    } else if (i == m_candidates.size() || m_next_candidates[j] < m_candidates[i]) {
-      const std::uint64_t key = m_next_candidates[j++];
+        (i < m_candidates.size() && m_candidates[i].key < m_next_candidates[j].key)) {
+      drop(m_candidates[i++].key);
+    } else if (i == m_candidates.size() || m_next_candidates[j].key < m_candidates[i].key) {
+      const std::uint64_t key = m_next_candidates[j++].key;
       // A tracker may have arrived by a transition.
       if (!tracks(key)) seed_pair(key_a(key), key_b(key), X_WA, X_WB);
     } else {
+      if (m_candidates[i].lower > m_next_candidates[j].lower) {
+        m_next_candidates[j].lower = m_candidates[i].lower;
+        m_next_candidates[j].at = m_candidates[i].at;
+      }
       ++i;
       ++j;
     }
   }
   // Trackers that moved by transitions onto pairs outside the set go too.
-  for (std::size_t k = 0; k < m_live.size(); ++k)
-    if (m_live[k].alive &&
-        !std::binary_search(m_next_candidates.begin(), m_next_candidates.end(),
-                            pair_key(m_live[k].pa, m_live[k].pb)))
-      kill(static_cast<int>(k));
+  auto by_key = [](const Candidate& c, std::uint64_t k) { return c.key < k; };
+  for (std::size_t k = 0; k < m_live.size(); ++k) {
+    if (!m_live[k].alive) continue;
+    const std::uint64_t key = pair_key(m_live[k].pa, m_live[k].pb);
+    const auto it = std::lower_bound(m_next_candidates.begin(), m_next_candidates.end(), key, by_key);
+    if (it == m_next_candidates.end() || it->key != key) kill(static_cast<int>(k));
+  }
   m_candidates.swap(m_next_candidates);
-  m_last_relative = X_WA.inverse() * X_WB;
+  m_last_relative = relative;
 }
 
 bool Body_pair_tracker::seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -422,8 +498,15 @@ bool Body_pair_tracker::seed_from_global(const Rigid_pose_3& X_WA, const Rigid_p
     }
   add_live(pa, pb, params);
   const std::uint64_t key = pair_key(pa, pb);
-  if (!std::binary_search(m_candidates.begin(), m_candidates.end(), key))
-    m_candidates.insert(std::upper_bound(m_candidates.begin(), m_candidates.end(), key), key);
+  if (find_candidate(key) < 0) {
+    Candidate c;
+    c.key = key;
+    c.lower = -std::numeric_limits<double>::infinity();  // no bound yet
+    c.at = X_WA.inverse() * X_WB;
+    m_candidates.insert(std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
+                                         [](const Candidate& x, std::uint64_t k) { return x.key < k; }),
+                        c);
+  }
   return true;
 }
 
@@ -742,7 +825,11 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   m_VA = &V_A;
   m_VB = &V_B;
   ++m_steps;
-  if (!m_started) start(X_WA, X_WB);
+  m_relative = X_WA.inverse() * X_WB;
+  if (!m_started) {
+    start(X_WA, X_WB);
+    m_previous_relative = m_relative;
+  }
   // 1. Step the live trackers at t; hand the ones that left their primitive across.
   double best = std::numeric_limits<double>::infinity();
   auto step_all = [&] {
@@ -753,7 +840,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   step_all();
   // 2. Broad phase where the relative pose changed: new candidate pairs seeded, far ones gone.
   const double length = std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
-  if (!near_pose(X_WA.inverse() * X_WB, m_last_relative, length)) {
+  if (!near_pose(m_relative, m_last_relative, length)) {
     // |best|: inside, the tracked pair's own primitives lie |best| apart.
     if (std::isfinite(best)) {
       broad_phase(X_WA, X_WB, std::abs(best) + reach_margin());
@@ -776,6 +863,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     step_all();
   }
   fill_report();
+  m_previous_relative = m_relative;
   m_last_A = X_WA;
   m_last_B = X_WB;
   m_have_pose = true;

@@ -53,6 +53,11 @@ struct Pair_report {
   // merges (trackers that reached the same pair), trackers seeded for new candidate pairs.
   long transitions = 0, merges = 0, seeds = 0;
   int candidates = 0;  // live candidate primitive pairs of the broad phase
+  // Totals since the start: candidate pairs without a tracker checked for a basin closer than
+  // the tracked minimum (one per pair and step); the checks whose carried lower bound
+  // (decayed by the relative motion since it was certified) could not clear them, which ran
+  // the restricted certified solver; and the trackers those solves seeded on a closer basin.
+  long vacated_checks = 0, vacated_solves = 0, vacated_seeds = 0;
 };
 
 struct Body_pair_options {
@@ -160,8 +165,19 @@ class Body_pair_tracker {
   std::vector<Feature> m_features_a, m_features_b;
   std::vector<Live> m_live;
   std::vector<int> m_free;  // free slots of m_live
-  // Broad phase: candidate pairs (pa << 32 | pb), sorted, and scratch.
-  std::vector<std::uint64_t> m_candidates, m_next_candidates;
+  // Broad phase: candidate pairs, sorted by key (pa << 32 | pb), each with a certified lower
+  // bound on its distance at the relative pose X_AB it was established at (its box distance
+  // when it entered, then the restricted solver's lower bound); the bound is carried between
+  // steps and decreased by how far the relative motion since can have brought the pair closer.
+  struct Candidate {
+    std::uint64_t key = 0;
+    double lower = 0.0;
+    Rigid_pose_3 at;  // X_AB when `lower` held
+    bool tracked = false;  // scratch of check_vacated: a live slot tracks the pair
+  };
+  std::vector<Candidate> m_candidates, m_next_candidates;
+  // Index of `key` in m_candidates, or -1.
+  int find_candidate(std::uint64_t key) const;
   std::vector<int> m_prims_a, m_prims_b;
   std::vector<Bbox_3> m_world_a, m_world_b;
   struct Broad_scratch;
@@ -171,6 +187,7 @@ class Body_pair_tracker {
   bool m_have_pose = false;
   Rigid_pose_3 m_last_A, m_last_B;  // poses of the last step
   Rigid_pose_3 m_last_relative;     // X_AB at the last broad phase
+  Rigid_pose_3 m_relative, m_previous_relative;  // X_AB at this step and the one before
   // The current step's inputs, for step_live and transition.
   double m_t = 0.0, m_dt = 1e-3;
   const Rigid_pose_3* m_XA = nullptr;
