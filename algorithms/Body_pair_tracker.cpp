@@ -96,10 +96,12 @@ double approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_pose
   return std::min(move_a, move_b) + 16.0 * std::numeric_limits<double>::epsilon() * size;
 }
 
-// A new pair's restricted solve is cut off this many steps' worth of the pair's relative
+// A pair's restricted solve is cut off at least this many steps' worth of the pair's relative
 // motion above the tracked minimum, so that its certified lower bound clears the next steps'
-// checks without a solve; nothing found below the cutoff costs little.
+// checks without a solve; nothing found below the cutoff costs little, and the next solve of
+// such a pair reaches k_slack_growth times higher (a far pair settles at its own minimum).
 constexpr double k_slack_steps = 8.0;
+constexpr double k_slack_growth = 4.0;
 
 bool closed_form_pair(const Primitive& a, const Primitive& b) {
   const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
@@ -345,19 +347,25 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       C.at = m_relative;
       continue;
     }
-    // The certified solver on the pair, cut off a few steps' motion above `need`: it seeds the
+    // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
     // pair when it holds something closer than the tracked minimum, and otherwise leaves a
     // lower bound that stays clear of `need` for the next steps.
     ++m_report.vacated_solves;
     const double step_motion = approach_bound(A.box, B.box, m_previous_relative, m_relative);
+    // At most the broad phase's margin: a cutoff far above the minimum would have the solver
+    // settle every pair below it, which costs more than a solve per step at low rates.
+    const double slack = std::max(
+        4.0 * tol,
+        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), reach_margin()));
     Distance_request request = m_options.seeding;
-    request.cutoff = need + std::max(4.0 * tol, k_slack_steps * step_motion);
+    request.cutoff = need + slack;
     const Distance_result g =
         extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
                                   m_model_b->hierarchy(), X_WB, B.global_element, request,
                                   m_workspace);
     C.lower = g.lower_bound;
     C.at = m_relative;
+    C.slack = g.element_a < 0 ? slack : 0.0;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
@@ -458,6 +466,7 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
         m_next_candidates[j].lower = m_candidates[i].lower;
         m_next_candidates[j].at = m_candidates[i].at;
       }
+      m_next_candidates[j].slack = m_candidates[i].slack;
       ++i;
       ++j;
     }

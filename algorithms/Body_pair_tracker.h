@@ -173,6 +173,9 @@ class Body_pair_tracker {
     std::uint64_t key = 0;
     double lower = 0.0;
     Rigid_pose_3 at;  // X_AB when `lower` held
+    // How far above the tracked minimum its last restricted solve was cut off, when that
+    // solve found nothing below the cutoff (0 otherwise): the next one reaches higher.
+    double slack = 0.0;
     bool tracked = false;  // scratch of check_vacated: a live slot tracks the pair
   };
   std::vector<Candidate> m_candidates, m_next_candidates;
