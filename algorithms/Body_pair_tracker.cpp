@@ -353,10 +353,14 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     ++m_report.vacated_solves;
     const double step_motion = approach_bound(A.box, B.box, m_previous_relative, m_relative);
     // At most the broad phase's margin: a cutoff far above the minimum would have the solver
-    // settle every pair below it, which costs more than a solve per step at low rates.
-    const double slack = std::max(
-        4.0 * tol,
-        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), reach_margin()));
+    // settle every pair below it. When one step's motion exceeds that margin (low rates) the
+    // bound cannot outlast the step anyway: cut off at `need` itself.
+    const double cap = reach_margin();
+    const double slack =
+        step_motion >= cap
+            ? 4.0 * tol
+            : std::max(4.0 * tol,
+                       std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
     request.cutoff = need + slack;
     const Distance_result g =
