@@ -570,6 +570,46 @@ frobnicate 1 2
   EXPECT_NE(all.find("line 24 (frobnicate)"), std::string::npos) << all;
 }
 
+// Indices at the ends of the long range (LONG_MIN's negation overflows; one past it is out of
+// range for strtol) are references to no vertex: reported, never wrapped into the list.
+TEST(ObjFreeform, IndicesAtTheEndsOfTheLongRangeAreReported) {
+  const char* text = R"(v 0 0 0
+v 1 0 0
+v 0 1 0
+v 1 1 0
+f 1 2 -9223372036854775808
+f 1 2 9223372036854775807
+f 1 2 -9223372036854775809
+vp 0 0
+vp 1 0
+cstype bspline
+deg 1
+curv2 -9223372036854775808 1
+parm u 0 0 1 1
+end
+curv2 1 2
+parm u 0 0 1 1
+end
+deg 1 1
+surf 0 1 0 1 1 2 3 4
+parm u 0 0 1 1
+parm v 0 0 1 1
+trim 0 1 -9223372036854775808
+end
+f 1 2 3
+)";
+  const io::Model m = io::read_model_from_memory("ends.obj", text);
+  ASSERT_EQ(m.bodies.size(), 1u);
+  EXPECT_EQ(m.bodies[0].faces.size(), 1u);
+  EXPECT_TRUE(m.bodies[0].faces[0].trims.empty());
+  EXPECT_EQ(m.bodies[0].mesh.triangles.size(), 1u);
+  std::string all;
+  for (const auto& s : m.skipped) all += s.entity + ": " + s.reason + "\n";
+  for (const char* at : {"line 5 (f)", "line 6 (f)", "line 7 (f)", "line 12 (curv2)",
+                         "line 19 (trim)"})
+    EXPECT_NE(all.find(std::string("ends.obj ") + at), std::string::npos) << at << "\n" << all;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Meshes through assimp.
 

@@ -80,10 +80,11 @@ class Obj_parser {
     return end && (*end == '\0' || *end == '/') && errno == 0;
   }
   // 1-based or negative (relative) index into a list of `count` items -> 0-based, or -1.
+  // (idx >= -n, not -idx <= n: -LONG_MIN overflows.)
   static long resolve(long idx, std::size_t count) {
     const long n = static_cast<long>(count);
     if (idx > 0 && idx <= n) return idx - 1;
-    if (idx < 0 && -idx <= n) return n + idx;
+    if (idx < 0 && idx >= -n) return n + idx;
     return -1;
   }
   std::vector<double> knots_for(const Element& e, bool u, int degree, int n_ctrl,
