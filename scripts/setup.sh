@@ -13,6 +13,11 @@ packages=(
   nlohmann-json3-dev libcli11-dev libtbb-dev
   libfcl-dev
 )
+# --fuzz: also clang and its libFuzzer runtime (scripts/run-fuzzers.sh; Debian's clang only
+# recommends the runtime package, and recommendations are not installed).
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
