@@ -1,8 +1,10 @@
 # ctest case package_example: installs the built project into a fresh prefix (cmake --install,
 # nothing is rebuilt), configures and builds tests/package against it with find_package(Extremal)
 # alone, runs the example on a STEP box and checks the distances it prints.
-# Variables: BUILD_DIR, SOURCE_DIR, WORK_DIR, PART, GENERATOR, CXX_COMPILER, BUILD_TYPE, LAUNCHER.
-foreach(var BUILD_DIR SOURCE_DIR WORK_DIR PART GENERATOR CXX_COMPILER)
+# Variables: BUILD_DIR, SOURCE_DIR, WORK_DIR, PART, GENERATOR, CXX_COMPILER, BUILD_TYPE, LAUNCHER,
+# SANITIZE (the build's EXTREMAL_SANITIZE: the example must then compile and link with the
+# sanitizers, through the package alone; otherwise with none).
+foreach(var BUILD_DIR SOURCE_DIR WORK_DIR PART GENERATOR CXX_COMPILER SANITIZE)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "run_package_test.cmake: ${var} not set")
   endif()
@@ -40,11 +42,22 @@ endif()
 run("configure the example" ${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/package"
     -B "${example_build}" -G "${GENERATOR}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
     "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}" "-DCMAKE_PREFIX_PATH=${prefix}"
-    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF ${launcher})
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_EXPORT_COMPILE_COMMANDS=ON ${launcher})
 # The package found must be the one just installed, not a source or build tree.
 if(NOT run_output MATCHES "Extremal 0\\.1\\.[0-9]+ from ${prefix}/lib/cmake/Extremal")
   message(FATAL_ERROR "the example did not find the installed package:\n${run_output}")
 endif()
+# A sanitized install hands its sanitizer options to the consumer (Extremal::sanitizers); a plain
+# one hands over none.
+file(READ "${example_build}/compile_commands.json" compile_commands)
+foreach(flag "-fsanitize=address,undefined" "-fno-sanitize-recover=all")
+  string(FIND "${compile_commands}" "${flag}" at)
+  if(SANITIZE AND at EQUAL -1)
+    message(FATAL_ERROR "sanitized install: the example is compiled without ${flag}:\n${compile_commands}")
+  elseif(NOT SANITIZE AND NOT at EQUAL -1)
+    message(FATAL_ERROR "plain install: the example is compiled with ${flag}:\n${compile_commands}")
+  endif()
+endforeach()
 run("build the example" ${CMAKE_COMMAND} --build "${example_build}")
 run("run the example" "${example_build}/extremal_example" "${PART}" 2)
 message(STATUS "${run_output}")
