@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -68,6 +69,32 @@ Rigid_pose_3 load_pose(const std::string& text, const char* option) {
 
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
+// The keys CLI.md specifies for `extremal distance --json`, shared by the plain and the signed
+// result (same field names on both).
+template <class Result>
+nlohmann::json result_json(const Result& r, const std::string& name_a, const std::string& name_b,
+                           double tolerance) {
+  nlohmann::json j;
+  j["distance"] = r.distance;
+  j["lower_bound"] = r.lower_bound;
+  j["upper_bound"] = r.upper_bound;
+  j["point_a"] = vec_json(r.point_a);
+  j["point_b"] = vec_json(r.point_b);
+  j["normal"] = vec_json(r.normal);
+  j["face_a"] = r.face_a;
+  j["face_b"] = r.face_b;
+  j["status"] = to_string(r.status);
+  j["certified"] = r.is_certified();
+  j["body_a"] = name_a;
+  j["body_b"] = name_b;
+  j["element_a"] = {{"kind", to_string(r.kind_a)}, {"index", r.element_a},
+                    {"params", {r.params_a[0], r.params_a[1]}}};
+  j["element_b"] = {{"kind", to_string(r.kind_b)}, {"index", r.element_b},
+                    {"params", {r.params_b[0], r.params_b[1]}}};
+  j["tolerance"] = tolerance;
+  return j;
+}
+
 struct Best {
   Distance_result result;
   std::size_t body_a = 0, body_b = 0;
@@ -110,24 +137,8 @@ int run_signed(const Distance_options& options, const std::vector<Body>& bodies_
   if (!all_certified && r.is_certified()) r.status = Signed_distance_status::Budget_exhausted;
   const bool overlapping = r.overlap != Overlap_kind::None;
 
-  nlohmann::json j;
-  j["distance"] = r.distance;
-  j["lower_bound"] = r.lower_bound;
-  j["upper_bound"] = r.upper_bound;
-  j["point_a"] = vec_json(r.point_a);
-  j["point_b"] = vec_json(r.point_b);
-  j["normal"] = vec_json(r.normal);
-  j["face_a"] = r.face_a;
-  j["face_b"] = r.face_b;
-  j["status"] = to_string(r.status);
-  j["certified"] = r.is_certified();
-  j["body_a"] = bodies_a[best_a].name;
-  j["body_b"] = bodies_b[best_b].name;
-  j["element_a"] = {{"kind", to_string(r.kind_a)}, {"index", r.element_a},
-                    {"params", {r.params_a[0], r.params_a[1]}}};
-  j["element_b"] = {{"kind", to_string(r.kind_b)}, {"index", r.element_b},
-                    {"params", {r.params_b[0], r.params_b[1]}}};
-  j["tolerance"] = options.tolerance;
+  nlohmann::json j =
+      result_json(r, bodies_a[best_a].name, bodies_b[best_b].name, options.tolerance);
   j["overlap"] = to_string(r.overlap);
   // What -distance measures while overlapping: the minimum translation distance (both bodies
   // certified convex) or the depth of the convex hulls (an upper bound on it).
@@ -216,24 +227,8 @@ int run_distance(const Distance_options& options) {
     r.lower_bound = std::min(r.lower_bound, best.lower);
     if (!best.all_certified && r.is_certified()) r.status = Distance_status::Budget_exhausted;
 
-    nlohmann::json j;
-    j["distance"] = r.distance;
-    j["lower_bound"] = r.lower_bound;
-    j["upper_bound"] = r.upper_bound;
-    j["point_a"] = vec_json(r.point_a);
-    j["point_b"] = vec_json(r.point_b);
-    j["normal"] = vec_json(r.normal);
-    j["face_a"] = r.face_a;
-    j["face_b"] = r.face_b;
-    j["status"] = to_string(r.status);
-    j["certified"] = r.is_certified();
-    j["body_a"] = bodies_a[best.body_a].name;
-    j["body_b"] = bodies_b[best.body_b].name;
-    j["element_a"] = {{"kind", to_string(r.kind_a)}, {"index", r.element_a},
-                      {"params", {r.params_a[0], r.params_a[1]}}};
-    j["element_b"] = {{"kind", to_string(r.kind_b)}, {"index", r.element_b},
-                      {"params", {r.params_b[0], r.params_b[1]}}};
-    j["tolerance"] = options.tolerance;
+    nlohmann::json j = result_json(r, bodies_a[best.body_a].name, bodies_b[best.body_b].name,
+                                   options.tolerance);
     j["work"] = {{"pairs", r.pairs_processed},
                  {"nodes", r.nodes_created},
                  {"newton_runs", r.newton_runs},
