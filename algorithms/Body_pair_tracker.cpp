@@ -261,7 +261,7 @@ void Body_pair_tracker::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
   if (!(domain.clamp(probe) & ~domain.closed)) return;
   Pair_system s;
   build_pair_system({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, params, s, false);
-  const double d0 = s.d.norm();
+  const double d0 = s.distance;
   // Interior samples of each side projected on the other: the closest, the most central
   // among ties.
   Vec4 inner = params;
@@ -285,7 +285,7 @@ void Body_pair_tracker::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
         if (side == 0) cand << q[0], q[1], nr.params[0], nr.params[1];
         else cand << nr.params[0], nr.params[1], q[0], q[1];
         build_pair_system({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, cand, s, false);
-        const double d = s.d.norm();
+        const double d = s.distance;
         const double c = off_centre(A, cand.data()) + off_centre(B, cand.data() + 2);
         const bool tie = std::abs(d - d1) <= 1e-12 * (1.0 + d1);
         if ((!tie && d < d1) || (tie && c < c1)) d1 = d, c1 = c, inner = cand;

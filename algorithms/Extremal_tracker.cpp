@@ -99,7 +99,7 @@ double Extremal_tracker::signed_distance(unsigned on_edge) const {
   // the face. On a face edge the normal says nothing about the solid (beside a cylinder's cap
   // rim, say, d points below the cap's plane while the bodies are apart): positive there.
   const Vec3 ab = m_system.b.p - m_system.a.p;
-  const double len = ab.norm();
+  const double len = m_system.distance;  // |ab| = |d|
   if (m_a.dimension() == 2)
     return ab.dot(m_system.normal_a) < 0.0 && !(on_edge & 3u) ? -len : len;
   if (m_b.dimension() == 2)
@@ -117,7 +117,7 @@ Degeneracy Extremal_tracker::classify_singular() const {
   }
   if (s.na == 2 && s.nb == 2 && s.normal_a.cross(s.normal_b).norm() < 1e-6) {
     const double size = std::max(m_a.size(), m_b.size());
-    return s.d.norm() <= 1e-9 * size ? Degeneracy::Coincident : Degeneracy::Parallel;
+    return s.distance <= 1e-9 * size ? Degeneracy::Coincident : Degeneracy::Parallel;
   }
   return Degeneracy::Singular;
 }
@@ -129,7 +129,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
                     choose_form());
   // Hand-over with hysteresis: enter the normal form inside the band, leave beyond twice it.
-  const double dist = m_system.d.norm();
+  const double dist = m_system.distance;
   const bool in_band = m_normal_form != Formulation::Projection &&
                        (dist < m_band || (m_in_band && dist < 2.0 * m_band));
   if (in_band != m_in_band) {
@@ -201,7 +201,7 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   // active conditions. Newton directions descend on it, so halving the step until it drops
   // keeps corrections from oscillating where the linearisation is poor (near a pole).
   auto merit = [&](bool minimum) {
-    return minimum ? m_system.d.norm() : m_system.phi.head(m_system.size()).norm();
+    return minimum ? m_system.distance : m_system.phi.head(m_system.size()).norm();
   };
   while (done < m_options.corrections) {
     build_pair_system(a, b, m_params, m_system, false, choose_form());

@@ -51,6 +51,7 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
   evaluate_feature(*B.feature, *B.pose, params.data() + na, s.b, 2);
   const Vec3 d = s.a.p - s.b.p;
   s.d = d;
+  s.distance = d.norm();
   Vec3 dn_a[2], dn_b[2];
   const bool surf_a = na == 2, surf_b = nb == 2;
   if ((form == Formulation::Normal_of_a && (!surf_a || nb == 0)) ||
@@ -164,7 +165,7 @@ void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
 
 Vec4 normalised_projection_errors(const Pair_system& s) {
   Vec4 e = Vec4::Zero();
-  const double dist = s.d.norm();
+  const double dist = s.distance;
   const int n = s.size();
   double len2[4];  // each tangent's squared length, taken once
   for (int k = 0; k < n; ++k) len2[k] = s.tangent(k).squaredNorm();

@@ -28,6 +28,7 @@ struct Pair_system {
   Formulation form = Formulation::Projection;
   Feature_point a, b;  // both features at the parameters, in the world
   Vec3 d = Vec3::Zero();  // a.p - b.p
+  double distance = 0.0;   // |d|, taken once per build (control, sign and errors read it)
   Vec3 normal_a = Vec3::Zero(), normal_b = Vec3::Zero();  // unit outward normals (surfaces)
   Vec4 projection = Vec4::Zero();  // the seed's projection errors, whatever the form
   Vec4 phi = Vec4::Zero();         // the conditions of `form`
