@@ -202,7 +202,7 @@ inline void bernstein_derivatives(int p_run, const Real& s, const Real& inv_h, i
 template <int Fixed>
 inline void basis_derivatives_impl(const double* knots, int k, int p, double t, int nd,
                                    Basis_derivatives& out) {
-  if (Fixed > 0 && is_bezier_span(knots, k, Fixed > 0 ? Fixed : p)) {
+  if (Fixed > 0 && is_bezier_span(knots, k, p)) {
     // s by division, not by 1 / h: exactly 1 at the span's right end (0 at its left).
     const double h = knots[k + 1] - knots[k];
     bernstein_derivatives<Fixed>(p, (t - knots[k]) / h, 1.0 / h, nd, &out.ders[0][0],
