@@ -95,6 +95,22 @@ nlohmann::json result_json(const Result& r, const std::string& name_a, const std
   return j;
 }
 
+// The certified solver's work counters (JSON "work").
+nlohmann::json work_json(const Distance_result& r) {
+  return {{"pairs", r.pairs_processed},
+          {"nodes", r.nodes_created},
+          {"newton_runs", r.newton_runs},
+          {"intersection_attempts", r.intersection_attempts}};
+}
+
+// The first line of the readable answer: the distance and its certificate.
+template <class Result>
+void print_distance_line(const Result& r) {
+  std::cout << std::setprecision(17);
+  std::cout << "distance " << r.distance << "  (" << to_string(r.status) << ": " << r.lower_bound
+            << " <= d <= " << r.upper_bound << ")\n";
+}
+
 struct Best {
   Distance_result result;
   std::size_t body_a = 0, body_b = 0;
@@ -145,20 +161,15 @@ int run_signed(const Distance_options& options, const std::vector<Body>& bodies_
   if (overlapping) j["depth"] = r.depth_is_translation_distance ? "translation" : "hull";
   j["closed_a"] = {{"closed", r.closed_a.closed}, {"reason", r.closed_a.reason}};
   j["closed_b"] = {{"closed", r.closed_b.closed}, {"reason", r.closed_b.reason}};
-  j["work"] = {{"pairs", r.apart.pairs_processed},
-               {"nodes", r.apart.nodes_created},
-               {"newton_runs", r.apart.newton_runs},
-               {"intersection_attempts", r.apart.intersection_attempts},
-               {"direction_cells", r.cells},
-               {"supports", r.supports},
-               {"winding_cells", r.winding_cells}};
+  j["work"] = work_json(r.apart);
+  j["work"]["direction_cells"] = r.cells;
+  j["work"]["supports"] = r.supports;
+  j["work"]["winding_cells"] = r.winding_cells;
   if (options.json) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  std::cout << std::setprecision(17);
-  std::cout << "distance " << r.distance << "  (" << to_string(r.status) << ": " << r.lower_bound
-            << " <= d <= " << r.upper_bound << ")\n";
+  print_distance_line(r);
   if (overlapping)
     std::cout << "overlap " << to_string(r.overlap) << ", depth of the "
               << (r.depth_is_translation_distance ? "bodies (minimum translation distance)"
@@ -229,17 +240,12 @@ int run_distance(const Distance_options& options) {
 
     nlohmann::json j = result_json(r, bodies_a[best.body_a].name, bodies_b[best.body_b].name,
                                    options.tolerance);
-    j["work"] = {{"pairs", r.pairs_processed},
-                 {"nodes", r.nodes_created},
-                 {"newton_runs", r.newton_runs},
-                 {"intersection_attempts", r.intersection_attempts}};
+    j["work"] = work_json(r);
     if (options.json) {
       std::cout << j.dump(2) << "\n";
       return 0;
     }
-    std::cout << std::setprecision(17);
-    std::cout << "distance " << r.distance << "  (" << to_string(r.status) << ": " << r.lower_bound
-              << " <= d <= " << r.upper_bound << ")\n";
+    print_distance_line(r);
     auto where = [](Element_kind k, int index, const std::array<double, 2>& q) {
       std::ostringstream os;
       os << std::setprecision(17) << to_string(k);
