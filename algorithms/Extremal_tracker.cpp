@@ -276,10 +276,13 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
   for (int s = 0; s < substeps; ++s) {
     // Poses at the start of the substep, from the twists (held constant over the step).
     const double tau = s * h;
-    const Rigid_pose_3 A0 = s == 0 ? X_WA : advance(X_WA, V_A, tau);
-    const Rigid_pose_3 B0 = s == 0 ? X_WB : advance(X_WB, V_B, tau);
     Vec4 k1;
-    control(x, A0, &V_A, B0, &V_B, h, k1, degeneracy);
+    if (s == 0) {  // the given poses, read in place (no copies on the hot path)
+      control(x, X_WA, &V_A, X_WB, &V_B, h, k1, degeneracy);
+    } else {
+      const Rigid_pose_3 A0 = advance(X_WA, V_A, tau), B0 = advance(X_WB, V_B, tau);
+      control(x, A0, &V_A, B0, &V_B, h, k1, degeneracy);
+    }
     ++solves;
     if (s == 0) {  // the pair at time t, before the parameters move
       fill_result(t, m_last_signed);

@@ -70,7 +70,7 @@ void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* 
       return;
     }
     case Feature::Kind::Surface: {
-      Surface_point sp;
+      Surface_point sp{Surface_point::Unset{}};  // only the orders copied below are read
       f.surface()->evaluate_placed(params[0], params[1], R, X_WA.translation(), sp, order);
       out.p = sp.p;
       if (order >= 1) {

@@ -8,6 +8,10 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace extremal {
 
 namespace {
@@ -76,14 +80,18 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
     const Vec3 *fa = s.a.d, *fb = s.b.d;
     s.projection = Vec4(d.dot(fa[0]), d.dot(fa[1]), d.dot(fb[0]), d.dot(fb[1]));
     s.phi = s.projection;
+    Vec4& len2 = s.tangent_length2;
+    len2 = Vec4(fa[0].squaredNorm(), fa[1].squaredNorm(), fb[0].squaredNorm(),
+                fb[1].squaredNorm());
     Mat4& M = s.M;
     const double aa01 = fa[1].dot(fa[0]), bb01 = fb[1].dot(fb[0]);
-    M(0, 0) = fa[0].dot(fa[0]) + d.dot(s.a.dd[0][0]);
-    M(1, 1) = fa[1].dot(fa[1]) + d.dot(s.a.dd[1][1]);
+    M(0, 0) = len2[0] + d.dot(s.a.dd[0][0]);
+    M(1, 1) = len2[1] + d.dot(s.a.dd[1][1]);
     M(0, 1) = M(1, 0) = aa01 + d.dot(s.a.dd[0][1]);
-    M(2, 2) = -fb[0].dot(fb[0]) + d.dot(s.b.dd[0][0]);
-    M(3, 3) = -fb[1].dot(fb[1]) + d.dot(s.b.dd[1][1]);
+    M(2, 2) = -len2[2] + d.dot(s.b.dd[0][0]);
+    M(3, 3) = -len2[3] + d.dot(s.b.dd[1][1]);
     M(2, 3) = M(3, 2) = -bb01 + d.dot(s.b.dd[0][1]);
+    s.symmetric_hessian = true;
     for (int i = 0; i < 2; ++i)
       for (int k = 0; k < 2; ++k) {
         const double ab = fa[i].dot(fb[k]);
@@ -104,6 +112,9 @@ void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const V
   s.phi.setZero();
   s.projection.setZero();
   s.M.setIdentity();
+  s.symmetric_hessian = false;
+  s.tangent_length2.setZero();
+  for (int k = 0; k < na + nb; ++k) s.tangent_length2[k] = s.tangent(k).squaredNorm();
   for (int i = 0; i < na; ++i) {
     s.projection[i] = d.dot(s.a.d[i]);
     if (form == Formulation::Normal_of_b) {
@@ -147,17 +158,19 @@ void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
   if (moving_b) w -= B.twist->velocity_at(s.b.p, *B.pose);
   const Vec3 wa = moving_a ? A.twist->angular : Vec3::Zero();
   const Vec3 wb = moving_b ? B.twist->angular : Vec3::Zero();
+  // Projection rows: w.t + d.(omega x t) = (w + d x omega).t, one vector per side.
+  const Vec3 va = w + d.cross(wa), vb = w + d.cross(wb);
   for (int i = 0; i < na; ++i) {
     if (form == Formulation::Normal_of_b)
       s.motion[i] = s.normal_b.dot(wa.cross(s.a.d[i])) + wb.cross(s.normal_b).dot(s.a.d[i]);
     else
-      s.motion[i] = w.dot(s.a.d[i]) + d.dot(wa.cross(s.a.d[i]));
+      s.motion[i] = va.dot(s.a.d[i]);
   }
   for (int j = 0; j < nb; ++j) {
     if (form == Formulation::Normal_of_a)
       s.motion[na + j] = wa.cross(s.normal_a).dot(s.b.d[j]) + s.normal_a.dot(wb.cross(s.b.d[j]));
     else
-      s.motion[na + j] = w.dot(s.b.d[j]) + d.dot(wb.cross(s.b.d[j]));
+      s.motion[na + j] = vb.dot(s.b.d[j]);
   }
 }
 
@@ -167,8 +180,7 @@ Vec4 normalised_projection_errors(const Pair_system& s) {
   Vec4 e = Vec4::Zero();
   const double dist = s.distance;
   const int n = s.size();
-  double len2[4];  // each tangent's squared length, taken once
-  for (int k = 0; k < n; ++k) len2[k] = s.tangent(k).squaredNorm();
+  const Vec4& len2 = s.tangent_length2;
   for (int k = 0; k < n; ++k) {
     // A tangent that vanishes (a pole) carries no condition: its error is rounding noise.
     // It is compared with the other tangent of its side (itself on a curve).
@@ -193,9 +205,7 @@ Parameter_domain Parameter_domain::of(const Feature& A, const Feature& B) {
 
 unsigned Parameter_domain::clamp(Vec4& params) const {
   // The usual case, every parameter strictly inside (NaN fails the test): nothing to do.
-  bool inside = true;
-  for (int k = 0; k < n; ++k) inside &= params[k] > lower[k] && params[k] < upper[k];
-  if (inside) return 0;
+  if (strictly_inside(params)) return 0;
   unsigned mask = 0;
   for (int k = 0; k < n; ++k) {
     const double lo = lower[k], hi = upper[k];
@@ -217,6 +227,25 @@ unsigned Parameter_domain::clamp(Vec4& params) const {
   return mask;
 }
 
+bool Parameter_domain::strictly_inside(const Vec4& params) const {
+  // Runs twice per tracker step: four lanes compared at once, unused lanes masked off.
+#if defined(__SSE2__)
+  const __m128d p01 = _mm_loadu_pd(params.data()), p23 = _mm_loadu_pd(params.data() + 2);
+  const __m128d in01 = _mm_and_pd(_mm_cmpgt_pd(p01, _mm_loadu_pd(lower.data())),
+                                  _mm_cmplt_pd(p01, _mm_loadu_pd(upper.data())));
+  const __m128d in23 = _mm_and_pd(_mm_cmpgt_pd(p23, _mm_loadu_pd(lower.data() + 2)),
+                                  _mm_cmplt_pd(p23, _mm_loadu_pd(upper.data() + 2)));
+  const unsigned in = static_cast<unsigned>(_mm_movemask_pd(in01)) |
+                      (static_cast<unsigned>(_mm_movemask_pd(in23)) << 2);
+  const unsigned used = (1u << n) - 1u;
+  return (in & used) == used;
+#else
+  bool inside = true;
+  for (int k = 0; k < n; ++k) inside &= (params[k] > lower[k]) & (params[k] < upper[k]);
+  return inside;
+#endif
+}
+
 unsigned Parameter_domain::lower_mask(const Vec4& params) const {
   unsigned mask = 0;
   for (int k = 0; k < n; ++k)
@@ -234,12 +263,17 @@ namespace {
 // symmetrised and positive definite with every pivot above the singularity threshold. Returns
 // false (x untouched) whenever the general path has to decide (shift, singular, non-finite), so
 // both give the same answer where this one answers.
-bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scale, Vec4& x) {
+bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scale, bool symmetric,
+                      Vec4& x) {
   double S[4], h[4][4], r[4];
   for (int k = 0; k < 4; ++k) S[k] = k >= na && k < n ? -1.0 : 1.0;
   for (int i = 0; i < 4; ++i) {
     r[i] = S[i] * rhs[i];
-    for (int j = 0; j <= i; ++j) h[i][j] = 0.5 * (S[i] * M(i, j) + S[j] * M(j, i));
+    // Where S M is exactly symmetric the mean below is the entry itself: skip it.
+    if (symmetric)
+      for (int j = 0; j <= i; ++j) h[i][j] = S[i] * M(i, j);
+    else
+      for (int j = 0; j <= i; ++j) h[i][j] = 0.5 * (S[i] * M(i, j) + S[j] * M(j, i));
   }
   // Cholesky H = L L^T, L in the lower triangle of h; pivots are L_kk^2.
   const double tiny = 1e-12 * scale;
@@ -276,7 +310,7 @@ bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scal
 bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const Solve_mode& mode,
                   Vec4& x) {
   if (mode.minimum && !mode.damped && frozen == 0 && mode.scale > 0.0 &&
-      solve_minimum_pd(M, rhs, mode.na, n, mode.scale, x))
+      solve_minimum_pd(M, rhs, mode.na, n, mode.scale, mode.symmetric, x))
     return true;
   Mat4 A = M;
   Vec4 r = rhs;
@@ -366,7 +400,8 @@ Solve_mode solve_mode_for(const Pair_system& s, bool minimum) {
   Solve_mode mode;
   mode.minimum = minimum;
   mode.na = s.na;
-  for (int k = 0; k < s.size(); ++k) mode.scale = std::max(mode.scale, s.tangent(k).squaredNorm());
+  for (int k = 0; k < s.size(); ++k) mode.scale = std::max(mode.scale, s.tangent_length2[k]);
+  mode.symmetric = s.symmetric_hessian;
   return mode;
 }
 

@@ -29,6 +29,10 @@ struct Pair_system {
   Feature_point a, b;  // both features at the parameters, in the world
   Vec3 d = Vec3::Zero();  // a.p - b.p
   double distance = 0.0;   // |d|, taken once per build (control, sign and errors read it)
+  Vec4 tangent_length2 = Vec4::Zero();  // |tangent k|^2, once per build (errors, solve scale)
+  // S M is exactly symmetric (S = +1 on A's rows, -1 on B's): true where the build writes
+  // mirrored entries (the surface-surface projection rows), so a solve need not symmetrise.
+  bool symmetric_hessian = false;
   Vec3 normal_a = Vec3::Zero(), normal_b = Vec3::Zero();  // unit outward normals (surfaces)
   Vec4 projection = Vec4::Zero();  // the seed's projection errors, whatever the form
   Vec4 phi = Vec4::Zero();         // the conditions of `form`
@@ -66,6 +70,8 @@ struct Parameter_domain {
   // Puts parameters back into the domain: closed directions wrap, the rest clamp. Bit k of the
   // returned mask is set when parameter k sits on a bound.
   unsigned clamp(Vec4& params) const;
+  // Every used parameter strictly between its bounds (false for NaN).
+  bool strictly_inside(const Vec4& params) const;
   // Bit k set when parameter k sits on its lower bound.
   unsigned lower_mask(const Vec4& params) const;
 };
@@ -93,6 +99,8 @@ struct Solve_mode {
   // steadier choice for Newton at rest from sampled starts, which the global solver polishes
   // with).
   bool scaled_shift = false;
+  // S M is exactly symmetric (Pair_system::symmetric_hessian): no symmetrising mean needed.
+  bool symmetric = false;
 };
 
 // The Solve_mode for a pair system: seeking a minimum unless `minimum` is false.

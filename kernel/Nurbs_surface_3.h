@@ -13,6 +13,12 @@ namespace extremal {
 
 // Point and partial derivatives of a surface at one parameter pair.
 struct Surface_point {
+  Surface_point() = default;
+  // Leaves every vector unset, for a caller that has evaluate() write them (a hot path):
+  // only the orders evaluated are then defined.
+  struct Unset {};
+  explicit Surface_point(Unset) : p(), du(), dv(), duu(), duv(), dvv() {}
+
   Vec3 p = Vec3::Zero();
   Vec3 du = Vec3::Zero();
   Vec3 dv = Vec3::Zero();
