@@ -193,6 +193,21 @@ void Extremal_tracker::cross_poles(Vec4& x) const {
   }
 }
 
+void Extremal_tracker::leave_poles(Vec4& x) const {
+  // The normal form's pole rows are divided by the distance to the pole (Pair_geometry.cpp),
+  // which needs a distance: a parameter on a pole is moved off it by 1e-9 of its range. The
+  // point moves by about that fraction of the surface's size along the surface, so the
+  // distance changes by its square: nothing at double precision.
+  constexpr double k_off_pole = 1e-9;
+  for (int k = 0; k < m_domain.n; ++k) {
+    const double off = k_off_pole * (m_domain.upper[k] - m_domain.lower[k]);
+    if ((m_pole_lower & (1u << k)) && x[k] < m_domain.lower[k] + off)
+      x[k] = m_domain.lower[k] + off;
+    else if ((m_pole_upper & (1u << k)) && x[k] > m_domain.upper[k] - off)
+      x[k] = m_domain.upper[k] - off;
+  }
+}
+
 int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                               Degeneracy& degeneracy) {
   int done = 0;
@@ -310,6 +325,7 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
     }
     if (m_pole_lower | m_pole_upper) cross_poles(x);  // only pairs with poles cross them
     m_domain.clamp(x);
+    if (m_in_band && (m_pole_lower | m_pole_upper)) leave_poles(x);
   }
   m_params = x;
   m_result.degeneracy = degeneracy;

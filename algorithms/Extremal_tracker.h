@@ -109,6 +109,8 @@ class Extremal_tracker {
   Degeneracy classify_singular() const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;
+  // In the normal form: moves parameters that sit on a pole just off it.
+  void leave_poles(Vec4& x) const;
   // Clamps `params` into the domain; bit k set when parameter k sits on a patch edge (a bound
   // that is not a pole).
   unsigned clamp_to_edges(Vec4& params) const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -43,6 +44,9 @@ void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const V
 // The motion term b of the system's form (zero unless `with_motion` and a body moves).
 void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
                 bool with_motion);
+// Normal forms: divides the rows of the non-reference surface's vanishing tangents near its
+// poles by the distance to the pole (see the definition).
+void desingularise_pole_rows(const Feature& f, const double* q, int offset, Pair_system& s);
 
 }  // namespace
 
@@ -102,6 +106,10 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
     build_general_rows(s, d, form, dn_a, dn_b);
   }
   add_motion(A, B, s, with_motion);
+  if (form == Formulation::Normal_of_a && surf_b && B.feature->collapsed_edges())
+    desingularise_pole_rows(*B.feature, params.data() + na, na, s);
+  else if (form == Formulation::Normal_of_b && surf_a && A.feature->collapsed_edges())
+    desingularise_pole_rows(*A.feature, params.data(), 0, s);
 }
 
 namespace {
@@ -171,6 +179,43 @@ void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
       s.motion[na + j] = wa.cross(s.normal_a).dot(s.b.d[j]) + s.normal_a.dot(wb.cross(s.b.d[j]));
     else
       s.motion[na + j] = vb.dot(s.b.d[j]);
+  }
+}
+
+// In a normal form the rows of the side opposite the reference surface R are n_R . t_j. At a
+// pole of that side (a collapsed patch edge) the tangent along the edge vanishes like rho, the
+// parameter distance to the edge, so its row is rho g(params) with g regular. Newton on
+// rho g = 0 is drawn to the spurious branch rho = 0: the pair stays on the pole while the contact
+// point moves off it (a ball rolling on a plane from its pole). Divided by rho the row is g, whose
+// zero is the meridian pointing down the slope, with a regular Jacobian:
+//   (phi / rho)' = M_row / rho - phi / rho^2 drho,   b / rho likewise (rho has no time term).
+// The projection rows need none of this: they are a gradient, and the minimum-seeking solve
+// shifts the indefinite Hessian there into a descent step that leaves the pole.
+void desingularise_pole_rows(const Feature& f, const double* q, int offset, Pair_system& s) {
+  const unsigned collapsed = f.collapsed_edges();
+  for (int along = 0; along < 2; ++along) {  // along: the parameter whose tangent vanishes
+    const int across = 1 - along;            // the parameter that measures rho
+    // Bits of Feature::collapsed_edges: 1 u_min, 2 u_max (t_v vanishes), 4 v_min, 8 v_max.
+    const unsigned low_bit = across == 0 ? 1u : 4u, high_bit = across == 0 ? 2u : 8u;
+    const double lo = f.lower(across), hi = f.upper(across), x = q[across];
+    double rho = std::numeric_limits<double>::infinity(), drho = 0.0;
+    if ((collapsed & low_bit) && x - lo < rho) {
+      rho = x - lo;
+      drho = 1.0;
+    }
+    if ((collapsed & high_bit) && hi - x < rho) {
+      rho = hi - x;
+      drho = -1.0;
+    }
+    // On the pole itself the row is rounding noise over zero: the tracker keeps its parameters
+    // off it (Extremal_tracker::leave_poles); infinity: no pole on this parameter.
+    if (!(rho > 0.0) || !std::isfinite(rho)) continue;
+    const int row = offset + along, col = offset + across;
+    const double inv = 1.0 / rho, phi = s.phi[row];
+    s.M.row(row) *= inv;
+    s.M(row, col) -= drho * phi * inv * inv;
+    s.phi[row] = phi * inv;
+    s.motion[row] *= inv;
   }
 }
 
