@@ -222,17 +222,18 @@ void desingularise_pole_rows(const Feature& f, const double* q, int offset, Pair
 }  // namespace
 
 Vec4 normalised_projection_errors(const Pair_system& s) {
-  Vec4 e = Vec4::Zero();
-  const double dist = s.distance;
-  const int n = s.size();
+  // All four lanes at once (two packed square roots and divisions on SSE2: this runs every
+  // tracker step), then the undefined ones set to zero. Padding lanes have zero tangents.
   const Vec4& len2 = s.tangent_length2;
-  for (int k = 0; k < n; ++k) {
+  const Vec4 denom = s.distance * len2.cwiseSqrt();
+  Vec4 e = s.projection.cwiseQuotient(denom);
+  const int n = s.size();
+  for (int k = 0; k < 4; ++k) {
     // A tangent that vanishes (a pole) carries no condition: its error is rounding noise.
     // It is compared with the other tangent of its side (itself on a curve).
     const int other = k < s.na ? s.na - 1 - k : s.na + (s.nb - 1 - (k - s.na));
-    if (len2[k] <= 1e-16 * len2[other]) continue;  // |t_k| <= 1e-8 |t_other|
-    const double denom = dist * std::sqrt(len2[k]);
-    e[k] = denom > 0.0 ? s.projection[k] / denom : 0.0;
+    const bool defined = k < n && len2[k] > 1e-16 * len2[other] && denom[k] > 0.0;
+    if (!defined) e[k] = 0.0;  // |t_k| <= 1e-8 |t_other|, |d| = 0, or padding
   }
   return e;
 }
