@@ -323,8 +323,10 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
       solves += 3;
       x += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    if (m_pole_lower | m_pole_upper) cross_poles(x);  // only pairs with poles cross them
-    m_domain.clamp(x);
+    if (!m_domain.strictly_inside(x)) {  // the usual step stays inside: nothing to do
+      if (m_pole_lower | m_pole_upper) cross_poles(x);  // only pairs with poles cross them
+      m_domain.clamp(x);
+    }
     if (m_in_band && (m_pole_lower | m_pole_upper)) leave_poles(x);
   }
   m_params = x;

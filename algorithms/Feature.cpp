@@ -70,17 +70,18 @@ void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* 
       return;
     }
     case Feature::Kind::Surface: {
-      Surface_point sp{Surface_point::Unset{}};  // only the orders copied below are read
-      f.surface()->evaluate_placed(params[0], params[1], R, X_WA.translation(), sp, order);
-      out.p = sp.p;
+      // Rows p, du, dv, duu, duv, dvv, straight from the evaluation kernel (the hot path).
+      double rows[6][4];
+      f.surface()->evaluate_placed_rows(params[0], params[1], R, X_WA.translation(), rows, order);
+      out.p = Vec3::Map(rows[0]);
       if (order >= 1) {
-        out.d[0] = sp.du;
-        out.d[1] = sp.dv;
+        out.d[0] = Vec3::Map(rows[1]);
+        out.d[1] = Vec3::Map(rows[2]);
       }
       if (order >= 2) {
-        out.dd[0][0] = sp.duu;
-        out.dd[0][1] = out.dd[1][0] = sp.duv;
-        out.dd[1][1] = sp.dvv;
+        out.dd[0][0] = Vec3::Map(rows[3]);
+        out.dd[0][1] = out.dd[1][0] = Vec3::Map(rows[4]);
+        out.dd[1][1] = Vec3::Map(rows[5]);
       }
       return;
     }

@@ -111,6 +111,21 @@ Nurbs_surface_3 Nurbs_surface_3::from_homogeneous(int degree_u, int degree_v, in
 
 namespace {
 
+// The placed kernel's rows (p, du, dv, duu, duv, dvv; lane 3 unused) into `out`.
+template <int Order>
+inline void write_placed(const double (&w)[6][4], Surface_point& out) {
+  out.p = Vec3::Map(w[0]);
+  if constexpr (Order >= 1) {
+    out.du = Vec3::Map(w[1]);
+    out.dv = Vec3::Map(w[2]);
+  }
+  if constexpr (Order >= 2) {
+    out.duu = Vec3::Map(w[3]);
+    out.duv = Vec3::Map(w[4]);
+    out.dvv = Vec3::Map(w[5]);
+  }
+}
+
 // The tensor-product sum and the quotient rule at (u, v) in spans (su, sv). P, Q > 0 fix the
 // degrees at compile time (arrays sized to them, loops unrolled); 0 takes them from p, q. Order
 // is the derivative order. Every instance does the same operations in the same order, so the
@@ -120,15 +135,33 @@ namespace {
 // The sum itself runs in `fast` (AVX2 + FMA, kernel/internal/Tensor_product.h) when the CPU
 // has it: all of its instances also share one order of operations.
 template <int P, int Q, int Order>
-[[gnu::noinline, gnu::flatten]] void evaluate_in_span(const Eigen::Vector4d* hom, int n_v,
+[[gnu::noinline, gnu::flatten]] bool evaluate_in_span(const Eigen::Vector4d* hom, int n_v,
                                                      const double* knots_u,
                                                      const double* knots_v, int p, int q, int su,
                                                      int sv, double u, double v, bool rational,
                                                      const internal::Simd_kernels& fast,
                                                      const double* R, const double* t,
-                                                     Surface_point& out) {
+                                                     Surface_point& out, double* rows) {
   if constexpr (P > 0) p = P;
   if constexpr (Q > 0) q = Q;
+  const Eigen::Vector4d* corner = hom + static_cast<std::size_t>(su - p) * n_v + (sv - q);
+#if defined(__SSE2__)
+  if constexpr (P > 0 && P == Q) {
+    if (R != nullptr && fast.placed != nullptr) {
+      // The kernel reads the two bases interleaved as the SSE2 pair leaves them: no unpacking.
+      internal::Double_pair pairs[3 * (P + 1)];
+      internal::basis_derivative_pairs<P>(knots_u, su, u, knots_v, sv, v, Order, pairs);
+      double basis[6 * (P + 1)];  // rows 0..Order are written (zeros above the degree)
+      for (int k = 0; k < (Order + 1) * (P + 1); ++k) _mm_storeu_pd(basis + 2 * k, pairs[k].x);
+      double w[6][4];
+      fast.placed(corner->data(), n_v, basis, basis + 1, 2 * (P + 1), 2, p, q, Order, rational,
+                  R, t, rows != nullptr ? rows : &w[0][0]);
+      if (rows != nullptr) return true;
+      write_placed<Order>(w, out);
+      return false;
+    }
+  }
+#endif
   internal::Basis_derivatives Nu, Nv;
   if constexpr (P > 0 && P == Q) {
     internal::basis_derivatives_pair<P>(knots_u, su, u, knots_v, sv, v, Order, Nu, Nv);
@@ -145,27 +178,18 @@ template <int P, int Q, int Order>
 
   // S[k][l] = d^(k+l) / du^k dv^l of the homogeneous surface, k + l <= Order.
   Eigen::Vector4d S[3][3];
-  const Eigen::Vector4d* corner = hom + static_cast<std::size_t>(su - p) * n_v + (sv - q);
   if (R != nullptr && fast.placed != nullptr) {
     double w[6][4];
-    fast.placed(corner->data(), n_v, &Nu.ders[0][0], &Nv.ders[0][0], k_max_degree + 1, p, q,
-                Order, rational, R, t, &w[0][0]);
-    out.p = Vec3::Map(w[0]);
-    if constexpr (Order >= 1) {
-      out.du = Vec3::Map(w[1]);
-      out.dv = Vec3::Map(w[2]);
-    }
-    if constexpr (Order >= 2) {
-      out.duu = Vec3::Map(w[3]);
-      out.duv = Vec3::Map(w[4]);
-      out.dvv = Vec3::Map(w[5]);
-    }
-    return;
+    fast.placed(corner->data(), n_v, &Nu.ders[0][0], &Nv.ders[0][0], k_max_degree + 1, 1, p, q,
+                Order, rational, R, t, rows != nullptr ? rows : &w[0][0]);
+    if (rows != nullptr) return true;
+    write_placed<Order>(w, out);
+    return false;
   }
   if (fast.sum != nullptr) {
     double s[6][4];
-    fast.sum(corner->data(), n_v, &Nu.ders[0][0], &Nv.ders[0][0], k_max_degree + 1, p, q, Order,
-             &s[0][0]);
+    fast.sum(corner->data(), n_v, &Nu.ders[0][0], &Nv.ders[0][0], k_max_degree + 1, 1, p, q,
+             Order, &s[0][0]);
     S[0][0] = Eigen::Vector4d::Map(s[0]);
     if constexpr (Order >= 1) {
       S[1][0] = Eigen::Vector4d::Map(s[1]);
@@ -239,26 +263,27 @@ template <int P, int Q, int Order>
       out.dvv = rotation * out.dvv;
     }
   }
+  return false;
 }
 
 // Compile-time degrees for the common low-degree patches (planes, conics, bicubics).
 template <int Order>
-void evaluate_dispatch(const Eigen::Vector4d* hom, int n_v, const double* knots_u,
+bool evaluate_dispatch(const Eigen::Vector4d* hom, int n_v, const double* knots_u,
                        const double* knots_v, int p, int q, int su, int sv, double u, double v,
                        bool rational, const internal::Simd_kernels& fast, const double* R,
-                       const double* t, Surface_point& out) {
+                       const double* t, Surface_point& out, double* rows) {
 #define EXTREMAL_SPAN_CASE(PP, QQ)                                                           \
   if (p == PP && q == QQ)                                                                    \
     return evaluate_in_span<PP, QQ, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, \
-                                           rational, fast, R, t, out)
+                                           rational, fast, R, t, out, rows)
   EXTREMAL_SPAN_CASE(3, 3);
   EXTREMAL_SPAN_CASE(2, 2);
   EXTREMAL_SPAN_CASE(2, 1);
   EXTREMAL_SPAN_CASE(1, 2);
   EXTREMAL_SPAN_CASE(1, 1);
 #undef EXTREMAL_SPAN_CASE
-  evaluate_in_span<0, 0, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, rational, fast,
-                                R, t, out);
+  return evaluate_in_span<0, 0, Order>(hom, n_v, knots_u, knots_v, p, q, su, sv, u, v, rational,
+                                       fast, R, t, out, rows);
 }
 
 }  // namespace
@@ -273,8 +298,20 @@ void Nurbs_surface_3::evaluate_placed(double u, double v, const Mat3& rotation,
   evaluate_in_frame(u, v, rotation.data(), translation.data(), out, order);
 }
 
-void Nurbs_surface_3::evaluate_in_frame(double u, double v, const double* R, const double* t,
-                                        Surface_point& out, int order) const {
+void Nurbs_surface_3::evaluate_placed_rows(double u, double v, const Mat3& rotation,
+                                           const Vec3& translation, double (&rows)[6][4],
+                                           int order) const {
+  Surface_point sp{Surface_point::Unset{}};
+  if (evaluate_in_frame(u, v, rotation.data(), translation.data(), sp, order, &rows[0][0]))
+    return;
+  // The portable path filled sp.
+  const Vec3* in[6] = {&sp.p, &sp.du, &sp.dv, &sp.duu, &sp.duv, &sp.dvv};
+  const int count = order == 0 ? 1 : order == 1 ? 3 : 6;
+  for (int k = 0; k < count; ++k) Vec3::Map(rows[k]) = *in[k];
+}
+
+bool Nurbs_surface_3::evaluate_in_frame(double u, double v, const double* R, const double* t,
+                                        Surface_point& out, int order, double* rows) const {
   EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
                             "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
   EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
@@ -290,13 +327,13 @@ void Nurbs_surface_3::evaluate_in_frame(double u, double v, const double* R, con
   switch (order) {
     case 0:
       return evaluate_dispatch<0>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, fast, R, t,
-                                  out);
+                                  out, rows);
     case 1:
       return evaluate_dispatch<1>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, fast, R, t,
-                                  out);
+                                  out, rows);
     default:
       return evaluate_dispatch<2>(hom, m_n_v, ku, kv, p, q, su, sv, u, v, m_rational, fast, R, t,
-                                  out);
+                                  out, rows);
   }
 }
 

@@ -75,6 +75,11 @@ class Nurbs_surface_3 {
   // world, for a body's pose): cheaper than evaluating and then rotating each derivative.
   void evaluate_placed(double u, double v, const Mat3& rotation, const Vec3& translation,
                        Surface_point& out, int order = 2) const;
+  // The same values as rows of four doubles: p, du, dv, duu, duv, dvv (lane 3 unspecified, rows
+  // above `order` untouched). For a caller with its own layout (the tracker's feature points):
+  // the fast kernel writes the rows directly, one copy fewer on the tracker's hot path.
+  void evaluate_placed_rows(double u, double v, const Mat3& rotation, const Vec3& translation,
+                            double (&rows)[6][4], int order = 2) const;
   Point_3 point(double u, double v) const;
   // Unit outward normal (f_u x f_v times outward_sign); zero where f_u x f_v vanishes, that is
   // falls below 1e-12 |coordinates| size / (u width * v width), the level rounding leaves at
@@ -91,9 +96,10 @@ class Nurbs_surface_3 {
                                           std::vector<double> knots_v);
 
  private:
-  // R (column-major 3 x 3) and t, or both nullptr for the patch's own frame.
-  void evaluate_in_frame(double u, double v, const double* R, const double* t, Surface_point& out,
-                         int order) const;
+  // R (column-major 3 x 3) and t, or both nullptr for the patch's own frame. When `rows` is
+  // not null and the placed fast kernel runs, it writes there instead of `out` (returns true).
+  bool evaluate_in_frame(double u, double v, const double* R, const double* t, Surface_point& out,
+                         int order, double* rows = nullptr) const;
 
   int m_degree_u, m_degree_v;
   int m_n_u, m_n_v;

@@ -216,13 +216,14 @@ inline void basis_derivatives_impl(const double* knots, int k, int p, double t, 
 // Two bases of the same degree P at once, u in span ku and v in span kv: with SSE2 one per
 // lane, the same results as two basis_derivatives_impl<P> calls in fewer instructions (and half
 // the divisions, which dominate).
-template <int P>
-inline void basis_derivatives_pair(const double* knots_u, int ku, double u, const double* knots_v,
-                                   int kv, double v, int nd, Basis_derivatives& out_u,
-                                   Basis_derivatives& out_v) {
-  static_assert(P > 0, "the pair runs compile-time degrees only");
 #if defined(__SSE2__)
-  Double_pair ders[3 * (P + 1)];
+// The two bases side by side, as they come out of the lanes: ders[r * (P + 1) + j] holds the
+// r-th derivative of basis function j along u (first lane) and along v (second lane).
+template <int P>
+inline void basis_derivative_pairs(const double* knots_u, int ku, double u,
+                                   const double* knots_v, int kv, double v, int nd,
+                                   Double_pair* ders) {
+  static_assert(P > 0, "the pair runs compile-time degrees only");
   if (is_bezier_span(knots_u, ku, P) && is_bezier_span(knots_v, kv, P)) {
     const Double_pair a{_mm_set_pd(knots_v[kv], knots_u[ku])};
     const Double_pair h = Double_pair{_mm_set_pd(knots_v[kv + 1], knots_u[ku + 1])} - a;
@@ -234,6 +235,17 @@ inline void basis_derivatives_pair(const double* knots_u, int ku, double u, cons
         [=](int i) { return Double_pair{_mm_set_pd(knots_v[kv + i], knots_u[ku + i])}; }, P,
         Double_pair{_mm_set_pd(v, u)}, nd, ders, P + 1);
   }
+}
+#endif
+
+template <int P>
+inline void basis_derivatives_pair(const double* knots_u, int ku, double u, const double* knots_v,
+                                   int kv, double v, int nd, Basis_derivatives& out_u,
+                                   Basis_derivatives& out_v) {
+  static_assert(P > 0, "the pair runs compile-time degrees only");
+#if defined(__SSE2__)
+  Double_pair ders[3 * (P + 1)];
+  basis_derivative_pairs<P>(knots_u, ku, u, knots_v, kv, v, nd, ders);
   for (int r = 0; r <= std::min(nd, 2); ++r)
     for (int j = 0; j <= P; ++j) {
       out_u.ders[r][j] = ders[r * (P + 1) + j].first();

@@ -13,18 +13,20 @@ namespace extremal::internal {
 
 // Sums S_kl = sum_i sum_j Nu[k][i] Nv[l][j] P(i, j) for k + l <= order (order 0 to 2) over the
 // (p + 1) x (q + 1) homogeneous poles P(i, j) = poles + 4 * (i * row_stride + j) (x, y, z, w),
-// with nu[k * basis_stride + i] and nv[l * basis_stride + j] the basis derivatives. Writes
-// s[6][4] in the order S00, S10, S01, S20, S11, S02 (entries above `order` untouched).
+// with nu[k * basis_stride + i * basis_step] and nv[l * basis_stride + j * basis_step] the
+// basis derivatives (basis_step 2: the u and v bases interleaved, as the SSE2 pair computes
+// them). Writes s[6][4] in the order S00, S10, S01, S20, S11, S02 (entries above `order`
+// untouched).
 using Tensor_product_fn = void (*)(const double* poles, std::ptrdiff_t row_stride,
-                                   const double* nu, const double* nv, int basis_stride, int p,
-                                   int q, int order, double* s);
+                                   const double* nu, const double* nv, int basis_stride,
+                                   int basis_step, int p, int q, int order, double* s);
 
 // The same sum followed by the quotient rule (when `rational`) and a rigid placement: writes
 // the point and its derivatives x = R x_body + t (derivatives rotated only) to out[6][4] in
 // the order p, du, dv, duu, duv, dvv, entry [k][3] unspecified. R is column-major.
 using Placed_tensor_product_fn = void (*)(const double* poles, std::ptrdiff_t row_stride,
                                           const double* nu, const double* nv, int basis_stride,
-                                          int p, int q, int order, bool rational,
+                                          int basis_step, int p, int q, int order, bool rational,
                                           const double* rotation, const double* translation,
                                           double* out);
 

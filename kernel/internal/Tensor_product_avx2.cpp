@@ -20,8 +20,8 @@ struct Sums {
 template <int P, int Q, int Order>
 inline __attribute__((always_inline)) Sums sum_poles(const double* poles,
                                                      std::ptrdiff_t row_stride, const double* nu,
-                                                     const double* nv, int basis_stride, int p,
-                                                     int q) {
+                                                     const double* nv, int basis_stride,
+                                                     int basis_step, int p, int q) {
   if constexpr (P > 0) p = P;
   if constexpr (Q > 0) q = Q;
   const __m256d zero = _mm256_setzero_pd();
@@ -32,20 +32,22 @@ inline __attribute__((always_inline)) Sums sum_poles(const double* poles,
     __m256d t0 = zero, t1 = zero, t2 = zero;
     for (int j = 0; j <= q; ++j) {
       const __m256d pole = _mm256_loadu_pd(row + 4 * j);
-      t0 = _mm256_fmadd_pd(_mm256_broadcast_sd(nv + j), pole, t0);
+      const double* nvj = nv + j * basis_step;
+      t0 = _mm256_fmadd_pd(_mm256_broadcast_sd(nvj), pole, t0);
       if constexpr (Order >= 1)
-        t1 = _mm256_fmadd_pd(_mm256_broadcast_sd(nv + basis_stride + j), pole, t1);
+        t1 = _mm256_fmadd_pd(_mm256_broadcast_sd(nvj + basis_stride), pole, t1);
       if constexpr (Order >= 2)
-        t2 = _mm256_fmadd_pd(_mm256_broadcast_sd(nv + 2 * basis_stride + j), pole, t2);
+        t2 = _mm256_fmadd_pd(_mm256_broadcast_sd(nvj + 2 * basis_stride), pole, t2);
     }
-    const __m256d n0 = _mm256_broadcast_sd(nu + i);
+    const double* nui = nu + i * basis_step;
+    const __m256d n0 = _mm256_broadcast_sd(nui);
     r.s[0] = _mm256_fmadd_pd(n0, t0, r.s[0]);
     if constexpr (Order >= 1) {
-      const __m256d n1 = _mm256_broadcast_sd(nu + basis_stride + i);
+      const __m256d n1 = _mm256_broadcast_sd(nui + basis_stride);
       r.s[1] = _mm256_fmadd_pd(n1, t0, r.s[1]);
       r.s[2] = _mm256_fmadd_pd(n0, t1, r.s[2]);
       if constexpr (Order >= 2) {
-        const __m256d n2 = _mm256_broadcast_sd(nu + 2 * basis_stride + i);
+        const __m256d n2 = _mm256_broadcast_sd(nui + 2 * basis_stride);
         r.s[3] = _mm256_fmadd_pd(n2, t0, r.s[3]);
         r.s[4] = _mm256_fmadd_pd(n1, t1, r.s[4]);
         r.s[5] = _mm256_fmadd_pd(n0, t2, r.s[5]);
@@ -59,8 +61,9 @@ constexpr int derivative_count(int order) { return order == 0 ? 1 : order == 1 ?
 
 template <int P, int Q, int Order>
 void tensor_product(const double* poles, std::ptrdiff_t row_stride, const double* nu,
-                    const double* nv, int basis_stride, int p, int q, double* s) {
-  const Sums r = sum_poles<P, Q, Order>(poles, row_stride, nu, nv, basis_stride, p, q);
+                    const double* nv, int basis_stride, int basis_step, int p, int q, double* s) {
+  const Sums r = sum_poles<P, Q, Order>(poles, row_stride, nu, nv, basis_stride, basis_step, p,
+                                        q);
   for (int k = 0; k < derivative_count(Order); ++k) _mm256_storeu_pd(s + 4 * k, r.s[k]);
 }
 
@@ -76,9 +79,9 @@ inline __m256d rotate(const __m256d col[3], __m256d x) {
 
 template <int P, int Q, int Order>
 void placed_tensor_product(const double* poles, std::ptrdiff_t row_stride, const double* nu,
-                           const double* nv, int basis_stride, int p, int q, bool rational,
-                           const double* R, const double* t, double* out) {
-  Sums r = sum_poles<P, Q, Order>(poles, row_stride, nu, nv, basis_stride, p, q);
+                           const double* nv, int basis_stride, int basis_step, int p, int q,
+                           bool rational, const double* R, const double* t, double* out) {
+  Sums r = sum_poles<P, Q, Order>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q);
   __m256d* s = r.s;
   if (rational) {  // quotient rule on A / w, A the Cartesian part
     const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), broadcast_w(s[0]));
@@ -119,47 +122,53 @@ void placed_tensor_product(const double* poles, std::ptrdiff_t row_stride, const
 
 template <int Order>
 void sum_for_degrees(const double* poles, std::ptrdiff_t row_stride, const double* nu,
-                     const double* nv, int basis_stride, int p, int q, double* s) {
+                     const double* nv, int basis_stride, int basis_step, int p, int q,
+                     double* s) {
 #define EXTREMAL_SUM(PP, QQ) \
-  tensor_product<PP, QQ, Order>(poles, row_stride, nu, nv, basis_stride, p, q, s)
+  tensor_product<PP, QQ, Order>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q, s)
   EXTREMAL_DEGREE_CASES(EXTREMAL_SUM);
 #undef EXTREMAL_SUM
 }
 
 template <int Order>
 void placed_for_degrees(const double* poles, std::ptrdiff_t row_stride, const double* nu,
-                        const double* nv, int basis_stride, int p, int q, bool rational,
-                        const double* R, const double* t, double* out) {
-#define EXTREMAL_PLACED(PP, QQ)                                                          \
-  placed_tensor_product<PP, QQ, Order>(poles, row_stride, nu, nv, basis_stride, p, q, \
-                                       rational, R, t, out)
+                        const double* nv, int basis_stride, int basis_step, int p, int q,
+                        bool rational, const double* R, const double* t, double* out) {
+#define EXTREMAL_PLACED(PP, QQ)                                                              \
+  placed_tensor_product<PP, QQ, Order>(poles, row_stride, nu, nv, basis_stride, basis_step, p, \
+                                       q, rational, R, t, out)
   EXTREMAL_DEGREE_CASES(EXTREMAL_PLACED);
 #undef EXTREMAL_PLACED
 }
 #undef EXTREMAL_DEGREE_CASES
 
 void tensor_product_avx2(const double* poles, std::ptrdiff_t row_stride, const double* nu,
-                         const double* nv, int basis_stride, int p, int q, int order, double* s) {
+                         const double* nv, int basis_stride, int basis_step, int p, int q,
+                         int order, double* s) {
   switch (order) {
-    case 0: return sum_for_degrees<0>(poles, row_stride, nu, nv, basis_stride, p, q, s);
-    case 1: return sum_for_degrees<1>(poles, row_stride, nu, nv, basis_stride, p, q, s);
-    default: return sum_for_degrees<2>(poles, row_stride, nu, nv, basis_stride, p, q, s);
+    case 0:
+      return sum_for_degrees<0>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q, s);
+    case 1:
+      return sum_for_degrees<1>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q, s);
+    default:
+      return sum_for_degrees<2>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q, s);
   }
 }
 
 void placed_tensor_product_avx2(const double* poles, std::ptrdiff_t row_stride, const double* nu,
-                                const double* nv, int basis_stride, int p, int q, int order,
-                                bool rational, const double* R, const double* t, double* out) {
+                                const double* nv, int basis_stride, int basis_step, int p, int q,
+                                int order, bool rational, const double* R, const double* t,
+                                double* out) {
   switch (order) {
     case 0:
-      return placed_for_degrees<0>(poles, row_stride, nu, nv, basis_stride, p, q, rational, R,
-                                   t, out);
+      return placed_for_degrees<0>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q,
+                                   rational, R, t, out);
     case 1:
-      return placed_for_degrees<1>(poles, row_stride, nu, nv, basis_stride, p, q, rational, R,
-                                   t, out);
+      return placed_for_degrees<1>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q,
+                                   rational, R, t, out);
     default:
-      return placed_for_degrees<2>(poles, row_stride, nu, nv, basis_stride, p, q, rational, R,
-                                   t, out);
+      return placed_for_degrees<2>(poles, row_stride, nu, nv, basis_stride, basis_step, p, q,
+                                   rational, R, t, out);
   }
 }
 
