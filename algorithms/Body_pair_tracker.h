@@ -15,6 +15,8 @@
 //     (inside trims and triangles), with face ids and parameters.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -58,6 +60,9 @@ struct Pair_report {
   // (decayed by the relative motion since it was certified) could not clear them, which ran
   // the restricted certified solver; and the trackers those solves seeded on a closer basin.
   long vacated_checks = 0, vacated_solves = 0, vacated_seeds = 0;
+  // Of those solves, the ones on a face sharing a patch side with a tracked face (a crease:
+  // the side declared carried, see Body_pair_tracker::check_vacated).
+  long vacated_crease_solves = 0;
 };
 
 struct Body_pair_options {
@@ -176,11 +181,24 @@ class Body_pair_tracker {
     // How far above the tracked minimum its last restricted solve was cut off, when that
     // solve found nothing below the cutoff (0 otherwise): the next one reaches higher.
     double slack = 0.0;
+    // When that solve set sub-patch pairs aside (Distance_result::carried_reach): how far B's
+    // points may move in A's frame ([0]) and A's in B's ([1]) before `lower` stops holding, and
+    // the sides of A's and B's primitive (carried_sides bits) whose neighbours' pairs must stay
+    // tracked.
+    std::array<double, 2> reach{{HUGE_VAL, HUGE_VAL}};
+    std::array<unsigned, 2> carried{{0u, 0u}};
     bool tracked = false;  // scratch of check_vacated: a live slot tracks the pair
   };
   std::vector<Candidate> m_candidates, m_next_candidates;
   // Index of `key` in m_candidates, or -1.
   int find_candidate(std::uint64_t key) const;
+  // A live slot on (pa, pb) whose witnesses lie on the bodies.
+  bool tracks_valid(int pa, int pb) const;
+  // Sides of primitive p of body `side` (0 A, 1 B) shared (within tol / 4) with a neighbour
+  // whose pair with `other` is tracked: the crease sides a restricted solve may declare carried.
+  unsigned carried_sides(int side, int p, int other, double tol) const;
+  // Whether the neighbours across a candidate's carried sides are still tracked.
+  bool carriers_tracked(const Candidate& C) const;
   std::vector<int> m_prims_a, m_prims_b;
   std::vector<Bbox_3> m_world_a, m_world_b;
   struct Broad_scratch;

@@ -357,14 +357,23 @@ struct Convex_region {
   double lower = 0.0;
 };
 
+// A node's enclosure of its first derivatives (holds_no_minimum), made once per node: a node
+// meets many nodes of the other side.
+struct Gradient_enclosure {
+  signed char state = 0;  // 0 not made yet, 1 made, -1 the enclosure failed
+  Interval3 d[2];
+};
+
 struct Side_pools {
   std::vector<Live_node> nodes;
   std::vector<Hom, Eigen::aligned_allocator<Hom>> hom;
   std::vector<Vec3> cart;
+  std::vector<Gradient_enclosure> gradients;  // by node, grown on demand
   void clear() {
     nodes.clear();
     hom.clear();
     cart.clear();
+    gradients.clear();
   }
 };
 
@@ -603,13 +612,20 @@ class Solver {
     return m_side[side].h->elements()[element].feature;
   }
   bool inside_known_solution(const Live_node& a, const Live_node& b) const;
+  // Whether pairs are pruned against the cutoff while every witness lies at or above the floor
+  // (Distance_request::cutoff_floor), and the level they are pruned against.
+  bool proving() const {
+    return m_req.cutoff < HUGE_VAL && m_req.cutoff_floor > -HUGE_VAL &&
+           m_best.distance >= m_req.cutoff_floor;
+  }
+  double prune_level() const { return proving() ? m_req.cutoff : m_best.distance; }
   // Local convexity certificates around Newton solutions (see certify_region).
   void try_certify(const Live_node& a, const Live_node& b);
   bool certify_region(internal::Known_solution& sol, const double* rho);
   bool enclose_element(int side, int e, const double* lo, const double* hi, const Vec3& origin,
                        internal::Derivative_enclosure& out, int order);
   double region_bound(const Live_node& a, const Live_node& b) const;
-  bool holds_no_minimum(const Live_node& a, const Live_node& b, int side);
+  bool holds_no_minimum(int ia, int ib, int side);
   void classify_meeting();
   void fill(Distance_result& r) const;
 
@@ -626,6 +642,7 @@ class Solver {
   Vec3 m_meet_normal = Vec3::Zero();
   int m_newton_runs = 0;
   int m_intersection_attempts = 0;
+  double m_reach[2] = {HUGE_VAL, HUGE_VAL};  // Distance_result::carried_reach
 };
 
 // Projection interval of a net on the witness axis, cached per node until the axis changes.
@@ -994,36 +1011,55 @@ double Solver::region_bound(const Live_node& a, const Live_node& b) const {
 // pair (its enclosure excludes zero in some component) and the sub-patch touches no open side
 // of its element: a minimiser with that side's point inside the element's domain would make
 // the gradient vanish, and one on a carried boundary (a trim edge, a face edge) lies on a curve
-// element, whose own pairs hold it. Such a pair is dropped without a bound: the minimum lies in
-// the pairs that remain. This is what certifies minima on trim boundaries, where the patch
-// beyond the trim comes closer and no hull bound of the straddling sub-patches can rise above
-// the minimum. Applied to trimmed faces only (see the check below).
-bool Solver::holds_no_minimum(const Live_node& a, const Live_node& b, int side) {
-  const Live_node& n = side == 0 ? a : b;
-  const Live_node& o = side == 0 ? b : a;
+// element, whose own pairs hold it (or, with Distance_request::carried_sides, on a side whose
+// minima another pair holds). Such a pair is dropped without a bound: the minimum lies in the
+// pairs that remain. This is what certifies minima on trim boundaries, where the patch beyond
+// the trim comes closer and no hull bound of the straddling sub-patches can rise above the
+// minimum, and a face's minimum on a side it shares with a tracked face (a C0 crease) without
+// solving it to the tie. Applied to trimmed faces and requested elements only (see below).
+bool Solver::holds_no_minimum(int ia, int ib, int side) {
+  const int in = side == 0 ? ia : ib;
+  const Live_node& n = m_side[side].pools->nodes[in];
+  const Live_node& o = m_side[1 - side].pools->nodes[side == 0 ? ib : ia];
   if (!n.is_net() || !o.is_net() || n.dim == 0) return false;
   const Distance_hierarchy::Element& el = m_side[side].h->elements()[n.element];
-  // Only trimmed faces need it: elsewhere the hull bounds rise above the minimum away from the
-  // stationary points, and near them the gradient vanishes, so the enclosure would not pay.
-  if (!el.trimmed || (el.open_sides & 0x10u)) return false;
+  // Trimmed faces, and restricted queries' elements with carried sides: elsewhere the hull
+  // bounds rise above the minimum away from the stationary points, and near them the gradient
+  // vanishes, so the enclosure would not pay.
+  unsigned open = el.open_sides;
+  // With carried sides requested, both elements of the restricted query: a pair away from the
+  // other element's open sides (an ellipsoid's poles) is set aside by its gradient too.
+  const bool requested = n.element == m_only[side] &&
+                         (m_req.carried_sides[0] | m_req.carried_sides[1]) != 0u;
+  if (requested) open &= ~m_req.carried_sides[side];
+  if ((!el.trimmed && !requested) || (open & 0x10u)) return false;
   const Feature& f = el.feature;
   unsigned touch = 0;
   for (int k = 0; k < n.dim; ++k) {
     if (n.lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
     if (n.hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
   }
-  if (touch & el.open_sides) return false;
-  auto& net = m_scratch.region_net;
-  const int count = n.count();
-  net.resize(count);
-  const Hom* src = m_side[side].pools->hom.data() + n.offset;
-  for (int k = 0; k < count; ++k) {
-    net[k] = src[k];
-    net[k].head<3>() -= src[k][3] * n.centre;
+  if (touch & open) return false;
+  auto& gradients = m_side[side].pools->gradients;
+  if (gradients.size() <= static_cast<std::size_t>(in))
+    gradients.resize(m_side[side].pools->nodes.size());
+  internal::Gradient_enclosure& e = gradients[in];
+  if (e.state == 0) {
+    auto& net = m_scratch.region_net;
+    const int count = n.count();
+    net.resize(count);
+    const Hom* src = m_side[side].pools->hom.data() + n.offset;
+    for (int k = 0; k < count; ++k) {
+      net[k] = src[k];
+      net[k].head<3>() -= src[k][3] * n.centre;
+    }
+    const double width[2] = {n.hi[0] - n.lo[0], n.dim > 1 ? n.hi[1] - n.lo[1] : 1.0};
+    internal::Derivative_enclosure full;
+    e.state = internal::enclose_piece(net.data(), n.nu, n.nv, n.dim, width, full, 1) ? 1 : -1;
+    e.d[0] = full.d[0];
+    e.d[1] = full.d[1];
   }
-  const double width[2] = {n.hi[0] - n.lo[0], n.dim > 1 ? n.hi[1] - n.lo[1] : 1.0};
-  internal::Derivative_enclosure e;
-  if (!internal::enclose_piece(net.data(), n.nu, n.nv, n.dim, width, e, 1)) return false;
+  if (e.state < 0) return false;
   internal::Interval3 r;  // f_side - f_other over the pair, from the world boxes
   double rmax = 0.0;
   for (int c = 0; c < 3; ++c) {
@@ -1035,7 +1071,21 @@ bool Solver::holds_no_minimum(const Live_node& a, const Live_node& b, int side) 
     double dmax = 0.0;
     for (int c = 0; c < 3; ++c) dmax = std::max({dmax, std::abs(e.d[k][c].lo), std::abs(e.d[k][c].hi)});
     const double margin = 1e-12 * rmax * dmax;  // far above the rounding of the enclosure
-    if (g.lo > margin || g.hi < -margin) return true;
+    if (g.lo > margin || g.hi < -margin) {
+      // The other side's points moving by s (this side's frame) change the component by at
+      // most s |d_k|: it keeps its sign while s stays below this reach. Too short a reach
+      // (a component near zero somewhere on the pair): split further instead.
+      double dk = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double m = std::max(std::abs(e.d[k][c].lo), std::abs(e.d[k][c].hi));
+        dk += m * m;
+      }
+      dk = std::sqrt(dk);
+      const double reach = ((g.lo > margin ? g.lo : -g.hi) - margin) / dk;
+      if (requested && reach < m_req.carried_min_reach) continue;
+      m_reach[side] = std::min(m_reach[side], reach);
+      return true;
+    }
   }
   return false;
 }
@@ -1219,7 +1269,7 @@ Distance_result Solver::run() {
     const Pair_entry top = heap.front();
     // Prune against 0.999 of the tolerance so that rounding in upper - lower cannot push the
     // final gap past it.
-    if (top.lower >= m_best.distance - k_prune * tolerance()) break;
+    if (top.lower >= prune_level() - k_prune * tolerance()) break;
     if (static_cast<long>(m_side[0].pools->nodes.size() + m_side[1].pools->nodes.size()) >
         m_req.max_nodes) {
       out_of_budget = true;
@@ -1239,7 +1289,9 @@ Distance_result Solver::run() {
       const double before = m_best.distance;
       corner_candidates(a, b);
       if (m_best.distance < before) polish(a, b);
-      if (m_req.newton_polish && !m_scratch.solutions.empty()) try_certify(a, b);
+      // (While proving a cutoff, convexity bounds around a witness above the floor would
+      // settle nothing: the pairs there are set aside or split until they clear the cutoff.)
+      if (m_req.newton_polish && !m_scratch.solutions.empty() && !proving()) try_certify(a, b);
       if (top.lower <= m_resolution && m_best.distance > m_resolution &&
           m_intersection_attempts < 64 && (a.depth + b.depth) % 3 == 0) {
         if (try_intersection(a, b)) break;
@@ -1264,14 +1316,12 @@ Distance_result Solver::run() {
             !m_side[which].h->may_hold_trimmed(child.element, child.lo, child.hi))
           continue;
       }
-      const double cutoff = m_best.distance - k_prune * tolerance();
+      const double cutoff = prune_level() - k_prune * tolerance();
       const double L = std::max(
           top.lower,
           lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], cutoff));
       if (L < cutoff) {
-        const Live_node& na = m_side[0].pools->nodes[ia];
-        const Live_node& nb = m_side[1].pools->nodes[ib];
-        if (holds_no_minimum(na, nb, 0) || holds_no_minimum(na, nb, 1)) continue;
+        if (holds_no_minimum(ia, ib, 0) || holds_no_minimum(ia, ib, 1)) continue;
         heap.push_back({L, ia, ib});
         std::push_heap(heap.begin(), heap.end(), Heap_order());
       } else {
@@ -1294,10 +1344,15 @@ Distance_result Solver::run() {
   }
   result.pairs_processed = pops;
   fill(result);
+  result.uncarried_lower_bound = dropped;
+  if (!heap.empty()) result.uncarried_lower_bound = std::min(dropped, heap.front().lower);
+  result.uncarried_lower_bound = std::max(0.0, result.uncarried_lower_bound);
+  result.carried_reach = {m_reach[0], m_reach[1]};
   if (m_met || m_best.distance <= m_resolution) {
     // The bodies meet: report exactly zero, never a rounding-level positive number.
     classify_meeting();
     result.distance = result.upper_bound = result.lower_bound = 0.0;
+    result.uncarried_lower_bound = 0.0;
     const Vec3 mid = 0.5 * (m_best.pa + m_best.pb);
     result.point_a = result.point_b = mid;
     result.normal = m_meet_normal;

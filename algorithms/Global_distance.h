@@ -158,6 +158,24 @@ struct Distance_request {
   // upper_bound = cutoff. Infinity: no cutoff. (Checking whether a primitive pair holds
   // anything closer than a tracked distance costs little when it does not.)
   double cutoff = HUGE_VAL;
+  // Restricted queries (extremal_distance_between) only: sides of element_a ([0]) and of
+  // element_b ([1]) whose minima another pair carries (bits as Element::open_sides: 1 and 2 the
+  // lower and upper end of the first parameter, 4 and 8 of the second), e.g. a patch side
+  // shared with a face whose pair with the other element is tracked. Sub-patch pairs touching
+  // no other open side of the element, over which the gradient of the squared distance along
+  // its parameters provably does not vanish, are set aside: their minimum lies on a carried
+  // side (see Distance_result::uncarried_lower_bound and carried_reach).
+  std::array<unsigned, 2> carried_sides{{0u, 0u}};
+  // With carried sides: a pair is set aside only when its gradient keeps its sign while the
+  // other element moves by at least this much (Distance_result::carried_reach); others split.
+  double carried_min_reach = 0.0;
+  // With a finite cutoff: while no witness lies below this floor, pairs are pruned against the
+  // cutoff rather than the best witness, so a query that finds nothing below the floor settles
+  // every pair it does not set aside at the cutoff (uncarried_lower_bound >= the cutoff, up to
+  // the tolerance) instead of stopping at a witness between floor and cutoff (a tie held on a
+  // carried side). A witness below the floor brings the usual pruning back (the closer basin is
+  // found). -infinity: the usual pruning.
+  double cutoff_floor = -HUGE_VAL;
 };
 
 enum class Distance_status {
@@ -190,6 +208,17 @@ struct Distance_result {
   int newton_runs = 0;
   int intersection_attempts = 0;
   double tolerance_used = 0.0;  // the effective max(absolute, relative * upper) at the end
+  // Lower bound over the sub-patch pairs not set aside for a carried boundary (trim edges held
+  // by curve elements, Distance_request::carried_sides): the minimum is at least
+  // min(uncarried_lower_bound, the minimum on the carried boundaries). It may exceed
+  // upper_bound (the witness lies where a set-aside pair holds it); infinity when every pair
+  // was set aside or pruned without a bound.
+  double uncarried_lower_bound = 0.0;
+  // How far the other element's points may move, in the frame of the element whose gradient
+  // set pairs aside ([0]: A's, B's points moving; [1]: B's, A's points moving), before that
+  // gradient can vanish on one of them: until then their minima still lie on the carried
+  // boundaries. Infinity when nothing was set aside.
+  std::array<double, 2> carried_reach{{HUGE_VAL, HUGE_VAL}};
 
   bool is_certified() const { return status != Distance_status::Budget_exhausted &&
                                      status != Distance_status::Resolution_limit; }

@@ -76,6 +76,71 @@ double project_on_side(const Nurbs_surface_3& f, int side, const Vec3& p, double
   return s;
 }
 
+// Side `side` of f as a B-spline curve: its poles, weights and knots (the parameter along the
+// side), when the knot vector across the side is clamped there (the side is then the row or
+// column of poles on it). False otherwise.
+struct Side_curve {
+  std::vector<Point_3> poles;
+  std::vector<double> weights, knots;
+  int degree = 0;
+};
+bool side_curve(const Nurbs_surface_3& f, int side, Side_curve& out) {
+  const bool u_fixed = side < 2;
+  const std::vector<double>& across = u_fixed ? f.knots_u() : f.knots_v();
+  const int p = u_fixed ? f.degree_u() : f.degree_v();
+  const int n = u_fixed ? f.number_of_poles_u() : f.number_of_poles_v();
+  const bool low = side % 2 == 0;
+  for (int k = 0; k <= p; ++k)
+    if (across[low ? k : n + k] != across[low ? 0 : n]) return false;
+  const int row = low ? 0 : n - 1;
+  const int m = u_fixed ? f.number_of_poles_v() : f.number_of_poles_u();
+  out.poles.clear();
+  out.weights.clear();
+  for (int j = 0; j < m; ++j) {
+    out.poles.push_back(u_fixed ? f.pole(row, j) : f.pole(j, row));
+    out.weights.push_back(u_fixed ? f.weight(row, j) : f.weight(j, row));
+  }
+  out.knots = u_fixed ? f.knots_v() : f.knots_u();
+  out.degree = u_fixed ? f.degree_v() : f.degree_u();
+  return true;
+}
+
+// Certified bound on how far a point of side sf of f lies from side sg of g: when both sides
+// are B-spline curves of the same degree and pole count whose knots agree up to an affine map
+// (reversing or not) and whose weights are proportional, the two curves at matching
+// parameters differ by a combination of the pole differences with nonnegative coefficients
+// summing to one, so the largest pole difference bounds it. Infinity when not proven.
+double side_gap(const Nurbs_surface_3& f, int sf, const Nurbs_surface_3& g, int sg) {
+  Side_curve a, b;
+  if (!side_curve(f, sf, a) || !side_curve(g, sg, b)) return HUGE_VAL;
+  const int m = static_cast<int>(a.poles.size());
+  if (a.degree != b.degree || m != static_cast<int>(b.poles.size()) ||
+      a.knots.size() != b.knots.size())
+    return HUGE_VAL;
+  const int nk = static_cast<int>(a.knots.size());
+  auto unit = [](const std::vector<double>& k, int i) {
+    return (k[i] - k.front()) / (k.back() - k.front());
+  };
+  double best = HUGE_VAL;
+  for (int reversed = 0; reversed < 2; ++reversed) {
+    bool same = a.knots.back() > a.knots.front() && b.knots.back() > b.knots.front();
+    for (int i = 0; i < nk && same; ++i) {
+      const double kb = reversed ? 1.0 - unit(b.knots, nk - 1 - i) : unit(b.knots, i);
+      same = std::abs(unit(a.knots, i) - kb) <= 1e-14;
+    }
+    if (!same) continue;
+    double gap = 0.0;
+    const double ratio = a.weights[0] / b.weights[reversed ? m - 1 : 0];
+    for (int j = 0; j < m && same; ++j) {
+      const int jb = reversed ? m - 1 - j : j;
+      same = std::abs(a.weights[j] - ratio * b.weights[jb]) <= 1e-14 * a.weights[j];
+      gap = std::max(gap, (to_vec3(a.poles[j]) - to_vec3(b.poles[jb])).norm());
+    }
+    if (same) best = std::min(best, gap);
+  }
+  return best;
+}
+
 // Parameter of curve c nearest to p.
 double project_on_curve(const Nurbs_curve_3& c, const Vec3& p, double& dist) {
   const double lo = c.domain_min(), hi = c.domain_max();
@@ -376,6 +441,8 @@ void Tracking_model::match_patch_sides() {
     pa.side_neighbour_side[a.side] = b.side;
     pb.side_neighbour[b.side] = a.face;
     pb.side_neighbour_side[b.side] = a.side;
+    pa.side_gap[a.side] = pb.side_gap[b.side] =
+        side_gap(*pa.feature.surface(), a.side, *pb.feature.surface(), b.side);
     m_matched_sides += 2;
   }
 }

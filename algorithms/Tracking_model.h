@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -43,6 +44,10 @@ struct Primitive {
   // Surfaces: the primitive across each side (u_min, u_max, v_min, v_max), or -1.
   std::array<int, 4> side_neighbour{{-1, -1, -1, -1}};
   std::array<int, 4> side_neighbour_side{{-1, -1, -1, -1}};  // which side of the neighbour
+  // Certified bound on how far a point of each matched side lies from the neighbour's side
+  // (the same curve up to the pole differences; infinity when not proven): a minimum there is
+  // the neighbour's too, within this gap.
+  std::array<double, 4> side_gap{{HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL}};
   // Surfaces: their bounding edges; edges: the faces that use them (ranges into the model's
   // link lists).
   int first_link = 0, link_count = 0;

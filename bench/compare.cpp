@@ -306,9 +306,9 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
       row.times_us.push_back(micros_since(t1) / std::max<long>(1, steps));
       if (run == 0 && last)
         std::fprintf(stderr, "(%s) %g Hz: candidate pairs without a tracker checked %ld times, "
-                     "%ld restricted solves; %ld seeds, %ld transitions\n", s.key.c_str(),
-                     c.rate, last->vacated_checks, last->vacated_solves, last->seeds,
-                     last->transitions);
+                     "%ld restricted solves (%ld on creases); %ld seeds, %ld transitions\n",
+                     s.key.c_str(), c.rate, last->vacated_checks, last->vacated_solves,
+                     last->vacated_crease_solves, last->seeds, last->transitions);
     }
     std::snprintf(buf, sizeof buf, " (start %.0f us)", median(starts));
     row.setting += buf;

@@ -498,3 +498,69 @@ TEST(BodyScenes, CarriedBoundsSkipMostRechecksAndStillCatchAnOvertakingBump) {
   EXPECT_GE(r.vacated_checks, 1000);  // pairs without a tracker were checked all along
   EXPECT_LE(r.vacated_solves * 4, r.vacated_checks);  // most cleared by their carried bound
 }
+
+TEST(BodyScenes, CreaseTieStillCatchesTheNeighboursDeeperBump) {
+  // A roof of two bicubic faces meeting at a C0 ridge (x = 0, shared poles): F slopes down to
+  // -x, G down to +x and then rises to a bump at (0.5, 1.5). A sphere (turned so that its
+  // poles stay off the witness) comes from over F to just beside the ridge while sliding along
+  // it: the tracked point sits on F's side at the ridge, where G's minimum ties it, so G is
+  // checked with the ridge declared carried (a crease solve). Near y = 1.5 G's bump comes
+  // closer than the ridge: a crease check must seed it, with every step audited against the
+  // certified global solver.
+  const int n = 8;
+  auto roof = [&](double x0, bool bump) {
+    std::vector<Point_3> poles;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double x = x0 + static_cast<double>(i) / (n - 1);
+        const double y = 2.0 * j / (n - 1);
+        double z = 0.3 - 0.4 * std::abs(x);
+        if (bump) {
+          const double s = 1.0 - ((x - 0.5) * (x - 0.5) + (y - 1.5) * (y - 1.5)) / 0.16;
+          if (s > 0.0) z += 1.0 * s * s;  // compact: G's poles on the ridge are F's
+        }
+        poles.emplace_back(x, y, z);
+      }
+    return make_freeform(3, 3, n, n, std::move(poles));
+  };
+  Body body;
+  body.name = "roof with a bump";
+  body.faces.emplace_back(roof(-1.0, false), "F");
+  body.faces.emplace_back(roof(0.0, true), "G");
+  const Body sphere = make_ellipsoid_body(0.2, 0.2, 0.2);
+  const Rigid_pose_3 start(Eigen::AngleAxisd(0.7, Vec3::UnitX()).toRotationMatrix(),
+                           Vec3(-0.5, 0.0, 1.0));
+  const Motion motion = Motion::twist(start, twist(Vec3(0.3, 1.0, 0.0), Vec3::Zero()), 0.0);
+  Body_pair_tracker tracker(body, sphere);
+  ASSERT_EQ(tracker.model_a().matched_sides(), 2);
+  ASSERT_EQ(tracker.model_a().primitives()[1].side_gap[0], 0.0);  // the same poles
+  Distance_request request;
+  request.absolute_tolerance = 1e-12;
+  request.relative_tolerance = 1e-12;
+  Distance_workspace ws;
+  const double dt = 1e-3;
+  Pair_report r;
+  bool on_ridge = false;
+  int last_face = -1;
+  double worst = 0.0;
+  for (int i = 0; i <= 1500; ++i) {
+    const Rigid_pose_3 X = motion.pose_at(i * dt);
+    r = tracker.step(i * dt, Rigid_pose_3(), Twist_3{}, X, motion.twist_at(i * dt), dt);
+    const Distance_result g = extremal_distance(tracker.model_a().hierarchy(), Rigid_pose_3(),
+                                                tracker.model_b().hierarchy(), X, request, ws);
+    ASSERT_TRUE(g.is_certified());
+    worst = std::max(worst, std::abs(r.distance - g.distance) / g.distance);
+    ASSERT_LE(std::abs(r.distance - g.distance), 1e-12 * g.distance)
+        << "step " << i << ": tracked " << r.distance << " on face " << r.feature_a
+        << ", certified " << g.distance << " on face " << g.element_a;
+    if (r.feature_a == 0 && std::abs(r.point_a.x()) < 1e-9) on_ridge = true;
+    last_face = r.feature_a;
+  }
+  std::printf("[ case     ] crease tie: worst relative error %.2e, %ld checks, %ld restricted solves "
+              "(%ld crease), %ld seeded by them\n",
+              worst, r.vacated_checks, r.vacated_solves, r.vacated_crease_solves, r.vacated_seeds);
+  EXPECT_TRUE(on_ridge);                 // the tie: F's tracked point on the shared side
+  EXPECT_GE(r.vacated_crease_solves, 1);  // G was checked as a crease
+  EXPECT_GE(r.vacated_seeds, 1);         // and its bump seeded when it came closer
+  EXPECT_EQ(last_face, 1);               // the minimum ends on G's bump
+}
