@@ -422,6 +422,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
     request.cutoff = need + slack;
+    // Trim-edge set-asides of trimmed faces: their proofs outlast the cutoff's motion too.
+    request.carried_min_reach = slack;
     // Crease ties. A face sharing a patch side with a face whose pair with the same other
     // primitive is tracked (a C0 join of a multi-patch body) has its minimum on that side when
     // the tracked point sits there: it ties the tracked minimum and no bound of the pair can

@@ -1082,7 +1082,7 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
       }
       dk = std::sqrt(dk);
       const double reach = ((g.lo > margin ? g.lo : -g.hi) - margin) / dk;
-      if (requested && reach < m_req.carried_min_reach) continue;
+      if (reach < m_req.carried_min_reach) continue;
       m_reach[side] = std::min(m_reach[side], reach);
       return true;
     }

@@ -166,8 +166,9 @@ struct Distance_request {
   // its parameters provably does not vanish, are set aside: their minimum lies on a carried
   // side (see Distance_result::uncarried_lower_bound and carried_reach).
   std::array<unsigned, 2> carried_sides{{0u, 0u}};
-  // With carried sides: a pair is set aside only when its gradient keeps its sign while the
-  // other element moves by at least this much (Distance_result::carried_reach); others split.
+  // A pair is set aside for a carried boundary (trim edges, carried_sides) only when its
+  // gradient keeps its sign while the other element moves by at least this much
+  // (Distance_result::carried_reach); others are split.
   double carried_min_reach = 0.0;
   // With a finite cutoff: while no witness lies below this floor, pairs are pruned against the
   // cutoff rather than the best witness, so a query that finds nothing below the floor settles
