@@ -120,6 +120,10 @@ constexpr double k_slack_growth = 4.0;
 // the bound it reached, or falls back to the usual solve.
 constexpr double k_crease_fraction = 0.25;
 constexpr int k_crease_nodes = 200;
+// A tracked pair carries a crease only when its tracker's normalised errors (sines of the
+// angles off stationarity) along its free parameters are below this: the distance it is above
+// its minimum is then about d e^2 / 2, far below the seeding tolerance.
+constexpr double k_converged_error = 1e-6;
 
 bool closed_form_pair(const Primitive& a, const Primitive& b) {
   const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
@@ -338,9 +342,25 @@ void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   ++m_report.seeds;
 }
 
-bool Body_pair_tracker::tracks_valid(int pa, int pb) const {
-  for (const Live& L : m_live)
-    if (L.alive && L.valid && L.pa == pa && L.pb == pb) return true;
+bool Body_pair_tracker::tracks_converged(int pa, int pb) const {
+  for (const Live& L : m_live) {
+    if (!L.alive || !L.valid || L.closed_form || L.pa != pa || L.pb != pb) continue;
+    // Converged along every parameter not held on a domain bound (one held there keeps the
+    // crease's projection error): a tracker lagging behind its minimum (no corrections, a low
+    // gain) may sit above a point of its own pair, the crease among them.
+    const Feature& fa = m_model_a->primitives()[pa].feature;
+    const Feature& fb = m_model_b->primitives()[pb].feature;
+    const int na = fa.dimension();
+    bool converged = true;
+    for (int k = 0; k < na + fb.dimension() && converged; ++k) {
+      const Feature& f = k < na ? fa : fb;
+      const int j = k < na ? k : k - na;
+      const double q = L.result.params[k];
+      if (!f.is_closed(j) && (q <= f.lower(j) || q >= f.upper(j))) continue;
+      converged = std::abs(L.result.normalised_errors[k]) <= k_converged_error;
+    }
+    if (converged) return true;
+  }
   return false;
 }
 
@@ -351,7 +371,7 @@ unsigned Body_pair_tracker::carried_sides(int side, int p, int other, double tol
   for (int s = 0; s < 4; ++s) {
     const int n = P.side_neighbour[s];
     if (n < 0 || !(P.side_gap[s] <= 0.25 * tol)) continue;
-    if (side == 0 ? tracks_valid(n, other) : tracks_valid(other, n)) mask |= 1u << s;
+    if (side == 0 ? tracks_converged(n, other) : tracks_converged(other, n)) mask |= 1u << s;
   }
   return mask;
 }
@@ -365,7 +385,7 @@ bool Body_pair_tracker::carriers_tracked(const Candidate& C) const {
     for (int s = 0; s < 4; ++s) {
       if (!(mask & (1u << s))) continue;
       const int n = P.side_neighbour[s];
-      if (!(side == 0 ? tracks_valid(n, pb) : tracks_valid(pa, n))) return false;
+      if (!(side == 0 ? tracks_converged(n, pb) : tracks_converged(pa, n))) return false;
     }
   }
   return true;
@@ -436,10 +456,12 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // domain boundary, i.e. on a carried side (no other side is touched); that side is the
     // tracked neighbour's too (within side_gap <= tol / 4), so the tracked pair would hold a
     // point below its tracked minimum by more than the tolerance - what every tracked pair is
-    // taken not to do (check_vacated never checks tracked pairs). After motion, the gradient
-    // keeps its sign while the other primitive has moved less than the reach the solve
-    // reports, and the other pairs' bound decays as before; a deeper minimum of the face away
-    // from the side is found as any other basin (its pairs are neither set aside nor above it).
+    // taken not to do (check_vacated never checks tracked pairs), required here of a converged
+    // tracker only (tracks_converged: a lagging one may sit above the crease). After motion,
+    // the gradient keeps its sign while the other primitive has moved less than the reach the
+    // solve reports, and the other pairs' bound decays as before; a deeper minimum of the face
+    // away from the side is found as any other basin (its pairs are neither set aside nor
+    // above it).
     unsigned carried_a = carried_sides(0, pa, pb, tol);
     unsigned carried_b = carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;

@@ -192,8 +192,9 @@ class Body_pair_tracker {
   std::vector<Candidate> m_candidates, m_next_candidates;
   // Index of `key` in m_candidates, or -1.
   int find_candidate(std::uint64_t key) const;
-  // A live slot on (pa, pb) whose witnesses lie on the bodies.
-  bool tracks_valid(int pa, int pb) const;
+  // A live slot on (pa, pb) whose witnesses lie on the bodies, converged (see
+  // k_converged_error in the .cpp).
+  bool tracks_converged(int pa, int pb) const;
   // Sides of primitive p of body `side` (0 A, 1 B) shared (within tol / 4) with a neighbour
   // whose pair with `other` is tracked: the crease sides a restricted solve may declare carried.
   unsigned carried_sides(int side, int p, int other, double tol) const;
