@@ -111,6 +111,8 @@ Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_po
 // such a pair reaches k_slack_growth times higher (a far pair settles at its own minimum).
 constexpr double k_slack_steps = 8.0;
 constexpr double k_slack_growth = 4.0;
+// Trim-edge set-asides of a usual restricted solve must outlast this many steps' motion.
+constexpr double k_reach_steps = 2.0;
 // A crease solve (see check_vacated) is cut off this fraction of the broad-phase margin above
 // the tracked minimum, and sets sub-patch pairs aside only when their gradient proof lasts as
 // much relative motion: higher, the sub-patch pairs straddling the cutoff (where the gradient
@@ -442,8 +444,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
     request.cutoff = need + slack;
-    // Trim-edge set-asides of trimmed faces: their proofs outlast the cutoff's motion too.
-    request.carried_min_reach = slack;
+    // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
+    request.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
     // Crease ties. A face sharing a patch side with a face whose pair with the same other
     // primitive is tracked (a C0 join of a multi-patch body) has its minimum on that side when
     // the tracked point sits there: it ties the tracked minimum and no bound of the pair can
