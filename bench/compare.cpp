@@ -40,6 +40,7 @@
 #include "algorithms/Extremal_tracker.h"
 #include "algorithms/Global_distance.h"
 #include "algorithms/Scene_stepper.h"
+#include "experiments/Egg_crate.h"
 #include "experiments/Ellipsoid_experiment.h"
 #include "io/Model_reader.h"
 #include "kernel/Motion.h"
@@ -538,27 +539,6 @@ void report(const Scenario& s, const std::vector<Row>& rows, const std::string& 
 
 // ---- the scenarios --------------------------------------------------------------------------
 
-// A non-convex part: 3 x 3 bicubic faces over [-1.5, 1.5]^2 sampling an egg crate
-// z = 0.25 sin(2x) cos(2y) at their control points (shared boundary poles: C0 joins).
-Body egg_crate() {
-  Body b;
-  b.name = "egg crate";
-  const int n = 6;  // poles per face and direction
-  auto height = [](double x, double y) { return 0.25 * std::sin(2.0 * x) * std::cos(2.0 * y); };
-  for (int fi = 0; fi < 3; ++fi)
-    for (int fj = 0; fj < 3; ++fj) {
-      std::vector<Point_3> poles;
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-          const double x = -1.5 + fi + static_cast<double>(i) / (n - 1);
-          const double y = -1.5 + fj + static_cast<double>(j) / (n - 1);
-          poles.emplace_back(x, y, height(x, y));
-        }
-      b.faces.emplace_back(make_freeform(3, 3, n, n, std::move(poles)), "bspline");
-    }
-  return b;
-}
-
 Scenario seed_ellipsoids(bool quick) {
   Scenario s;
   s.key = "a";
@@ -593,7 +573,7 @@ Scenario crate_and_ellipsoid(bool quick) {
   Scenario s;
   s.key = "b";
   s.title = "non-convex part (3 x 3 bicubic faces) under a moving ellipsoid";
-  s.a = egg_crate();
+  s.a = experiments::egg_crate();
   s.b = make_ellipsoid_body(0.6, 0.4, 0.3);
   Twist_3 v;
   v.linear = Vec3(0.6, 0.4, 0.0);

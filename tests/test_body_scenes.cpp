@@ -14,6 +14,7 @@
 #include "algorithms/Global_distance.h"
 #include "algorithms/Scene_stepper.h"
 #include "algorithms/Triangle_distance.h"
+#include "experiments/Egg_crate.h"
 #include "kernel/Trim_region.h"
 #include "io/Model_reader.h"
 #include "kernel/Error.h"
@@ -448,20 +449,7 @@ TEST(BodyScenes, CarriedBoundsSkipMostRechecksAndStillCatchAnOvertakingBump) {
   // earlier restricted solve, decreased by the relative motion since, clears most checks
   // without a solve, and an approaching bump on another face overtakes the tracked one
   // (a tracker seeded by such a check) with the audit agreeing at every step.
-  Body crate;
-  crate.name = "egg crate";
-  const int n = 6;
-  for (int fi = 0; fi < 3; ++fi)
-    for (int fj = 0; fj < 3; ++fj) {
-      std::vector<Point_3> poles;
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-          const double x = -1.5 + fi + static_cast<double>(i) / (n - 1);
-          const double y = -1.5 + fj + static_cast<double>(j) / (n - 1);
-          poles.emplace_back(x, y, 0.25 * std::sin(2.0 * x) * std::cos(2.0 * y));
-        }
-      crate.faces.emplace_back(make_freeform(3, 3, n, n, std::move(poles)), "bspline");
-    }
+  const Body crate = experiments::egg_crate();
   const Body ellipsoid = make_ellipsoid_body(0.6, 0.4, 0.3);
   const Motion motion = Motion::twist(pose_of(Vec3(-0.9, -0.6, 0.95)),
                                       twist(Vec3(0.6, 0.4, 0.0), Vec3(0.3, 0.2, 0.5)), 0.0);
