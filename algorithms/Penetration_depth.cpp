@@ -895,16 +895,22 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
     if (have_face)
       for (const Vec3& x : last_face) anchors[anchor_count++] = x;
   }
+  // Visits the directions a small step from n along both senses of two orthogonal tangents
+  // (n by value: visiting may move `best`, whose direction is often the argument).
+  auto around = [&](const Vec3 n, double step, auto&& visit) {
+    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)})
+      visit(evaluate((n + step * t).normalized()));
+  };
+  auto consider_and_remember = [&](const Direction_eval& side) {
+    consider(side);
+    remember(side);
+  };
   // Differences on every side of the best direction: where overlap has a kink there, the
   // support points on either side span the optimum.
   if (best.has_points()) {
-    const Vec3 n = best.n, e1 = n.unitOrthogonal(), e2 = n.cross(e1);
-    for (double step : {1e-5, 1e-3})
-      for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)}) {
-        const Direction_eval side = evaluate((n + step * t).normalized());
-        consider(side);
-        remember(side);
-      }
+    const Vec3 n = best.n;  // the same direction for both steps, as consider() may move best
+    for (double step : {1e-5, 1e-3}) around(n, step, consider_and_remember);
   }
   // Then along the hull: the point y of conv(differences) best aligned with the best direction
   // (the largest bound over a small cone about it) points at the optimum of overlap, also at a
@@ -918,27 +924,19 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
     const Vec3 n = y.normalized();
     if ((n - best.n).norm() < 1e-14) break;
     const double before = U;
-    const Direction_eval at = evaluate(n);
-    consider(at);
-    remember(at);
-    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
-    for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)}) {
-      const Direction_eval side = evaluate((n + 1e-6 * t).normalized());
-      consider(side);
-      remember(side);
-    }
+    consider_and_remember(evaluate(n));
+    around(n, 1e-6, consider_and_remember);
     if (!(U < before)) break;
   }
   // Anchors: differences on both sides of the final best direction in two orthogonal
   // directions (a kink there is spanned by them), kept for every cell's bound.
   if (best.has_points()) {
-    const Vec3 n = best.n, e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    const Vec3 n = best.n;  // the same direction for both steps, as consider() may move best
     for (double step : {1e-6, 1e-4})
-      for (const Vec3& t : {e1, Vec3(-e1), e2, Vec3(-e2)}) {
-        const Direction_eval side = evaluate((n + step * t).normalized());
+      around(n, step, [&](const Direction_eval& side) {
         consider(side);
         if (side.has_points() && anchor_count < k_anchors) anchors[anchor_count++] = side.d();
-      }
+      });
   }
   for (Direction_cell& c : initial) {
     const Vec3 own[1] = {c.d};
