@@ -760,7 +760,8 @@ bool Body_pair_tracker::transition(int k) {
         Surface_point sp;
         S.evaluate(q[0], q[1], sp, 0);
         double t = 0.0;
-        np = M.nearest_edge(p, sp.p, t);
+        const Vec3 toward = X.inverse().apply_point(other);
+        np = M.nearest_edge(p, sp.p, t, &toward);
         nq[0] = t;
       } else if (out_side >= 0 && P.side_neighbour[out_side] >= 0) {
         // Across a matched patch side, if the descent enters the neighbour.

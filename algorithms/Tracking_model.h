@@ -99,8 +99,10 @@ class Tracking_model {
   // `out` on the neighbour (side_neighbour[side]). Returns false when the projection fails.
   bool map_across_side(int f, int side, const double* params, double out[2]) const;
   // The edge of face f nearest to the body-frame point p, with the edge parameter; -1 if f has
-  // no edges.
-  int nearest_edge(int f, const Vec3& p, double& t) const;
+  // no edges. With `toward` (body frame: the other body's witness), edges that tie at p (a
+  // corner of the face) are told apart by which one the distance to `toward` descends along
+  // from p: the one a point leaving the face at that corner slides on.
+  int nearest_edge(int f, const Vec3& p, double& t, const Vec3* toward = nullptr) const;
 
  private:
   void add_brep_edges();
