@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 
 #include "algorithms/Feature.h"
+#include "algorithms/Pair_geometry.h"
 #include "algorithms/internal/Bezier_net.h"
 #include "kernel/Error.h"
 
@@ -701,6 +702,25 @@ struct Direction_eval {
   Vec3 d() const { return a.point - b.point; }
 };
 
+// A point of face element e (placed by X_W) at the world point x, if the face passes through
+// it: Newton's projection from `start`, accepted within `tol` and inside the trim.
+bool face_point_at(const Distance_hierarchy& H, const Rigid_pose_3& X_W, int e, const Vec3& x,
+                   const std::array<double, 2>& start, double tol, std::array<double, 2>& q) {
+  const auto& el = H.elements()[e];
+  if (el.kind != Element_kind::Face) return false;
+  const Feature target = Feature::point(x);
+  const Rigid_pose_3 identity;
+  const Newton_result r = solve_pair_at_rest({&el.feature, &X_W, nullptr}, {&target, &identity, nullptr},
+                                             Vec4(start[0], start[1], 0.0, 0.0));
+  const double uv[2] = {r.params[0], r.params[1]};
+  if (!H.on_body(e, uv)) return false;
+  Feature_point fp;
+  evaluate_feature(el.feature, X_W, uv, fp, 0);
+  if (!((fp.p - x).norm() <= tol)) return false;
+  q = {uv[0], uv[1]};
+  return true;
+}
+
 }  // namespace
 
 Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const Rigid_pose_3& X_WA,
@@ -1011,6 +1031,25 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
     };
     fill(HA, best.a, out.kind_a, out.element_a, out.face_a, out.params_a);
     fill(HB, best.b, out.kind_b, out.element_b, out.face_b, out.params_b);
+    // A flat support face (a plane along n) attains h at every point: the pair found may be a
+    // corner of one face and a point of the other, with point_b - point_a far from s n. Where
+    // the support face passes through the other witness moved by -s along n, that point is
+    // the witness: the pair is then aligned with the normal (a contact point and its depth).
+    const double scale = std::max({1.0, out.point_a.norm(), out.point_b.norm()});
+    const double tol = 1e-9 * scale;
+    const Vec3 gap = out.point_b - out.point_a - out.distance * out.normal;
+    if (gap.norm() > tol) {
+      std::array<double, 2> q;
+      const Vec3 on_a = out.point_b - out.distance * out.normal;
+      const Vec3 on_b = out.point_a + out.distance * out.normal;
+      if (face_point_at(HA, X_WA, best.a.element, on_a, out.params_a, tol, q)) {
+        out.point_a = on_a;
+        out.params_a = q;
+      } else if (face_point_at(HB, X_WB, best.b.element, on_b, out.params_b, tol, q)) {
+        out.point_b = on_b;
+        out.params_b = q;
+      }
+    }
   } else {
     // No real point on a body (every sampled support outside the trims): only the upper
     // bounds on h hold, so s has a lower bound and no upper bound.

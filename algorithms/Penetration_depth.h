@@ -11,7 +11,9 @@
 //     support points p of A along n and q of B along -n are an extremal pair: at a smooth
 //     minimum p - q = overlap * n, the outward normal of A at p is +n and that of B at q is -n
 //     (the pair a tracker follows through penetration). point_b - point_a = s * normal holds
-//     there; in general (support points on edges or vertices) n.(point_b - point_a) = s.
+//     there, and where a support set is flat (a plane face, a cylinder's generator) the
+//     witness on it is taken across from the other one when the face reaches there; in
+//     general (support points on edges or vertices) n.(point_b - point_a) = s.
 //   - For two convex bodies -s is the minimum translation distance (the shortest translation
 //     of B that separates them). For non-convex bodies it is the penetration depth of their
 //     convex hulls, an upper bound on the minimum translation distance, and it jumps where the

@@ -323,6 +323,28 @@ TEST(PenetrationDepth, OpenBodiesContainNothing) {
   EXPECT_NEAR(r.distance, 0.5, 1e-9);
 }
 
+// A ball of radius 0.5 through a 4 x 4 plane, its centre at height 0.2 above (x, y), the whole
+// placed at random: s = 0.2 - 0.5 along the plane's normal. The plane attains its support at
+// every point, so the witness on it must be the one under the ball's deepest point, with
+// point_b - point_a = s n (a corner of the plane has the same support value).
+TEST(PenetrationDepth, FlatSupportFaceGivesTheWitnessAlignedWithTheNormal) {
+  auto rng = test::seeded_rng();
+  const Body ball = make_sphere_body(0.5), plane = make_plane_body(4, 4);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  for (int k = 0; k < 4; ++k) {
+    const Rigid_pose_3 X = random_pose(rng, Vec3(u(rng), u(rng), u(rng)));
+    const double x = u(rng), y = u(rng);
+    const Rigid_pose_3 X_ball(X.rotation(), X.apply_point(Vec3(x, y, 0.2)));
+    const Signed_distance_result r = signed_distance(plane, X, ball, X_ball);
+    ASSERT_EQ(r.status, Signed_distance_status::Penetrating) << to_string(r.status);
+    EXPECT_NEAR(r.distance, -0.3, 1e-8);
+    const Vec3 up = X.apply_vector(Vec3::UnitZ());
+    EXPECT_NEAR(std::abs(r.normal.dot(up)), 1.0, 1e-9);
+    EXPECT_NEAR((r.point_b - r.point_a - r.distance * r.normal).norm(), 0.0, 1e-9);
+    EXPECT_NEAR((r.point_a - X.apply_point(Vec3(x, y, 0.0))).norm(), 0.0, 1e-6) << "case " << k;
+  }
+}
+
 // Concentric balls: every direction minimises overlap(n), so the certificate needs the whole
 // sphere of directions resolved; a small budget stops with bounds that still hold.
 TEST(PenetrationDepth, DegenerateMinimumExhaustsTheBudgetWithValidBounds) {
@@ -356,6 +378,8 @@ TEST(PenetrationDepth, KinkOfACylinderThroughABall) {
   EXPECT_FALSE(r.depth_is_translation_distance);  // a cylinder is not certified convex here
   expect_brackets(r, std::sqrt(0.05) - 1.3, 1e-9);
   EXPECT_NEAR((r.normal - Vec3(0.2, 0.1, 0).normalized()).norm(), 0.0, 1e-4);
+  // The cylinder's support is a generator: its witness is the one across from the ball's.
+  EXPECT_NEAR((r.point_b - r.point_a - r.distance * r.normal).norm(), 0.0, 1e-9);
 }
 
 TEST(PenetrationDepth, BadRequestsThrow) {
