@@ -749,8 +749,16 @@ int main(int argc, char** argv) {
       out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
       data = argv[++i];
-    else
+    else if (!std::strcmp(argv[i], "a") || !std::strcmp(argv[i], "b") || !std::strcmp(argv[i], "c"))
       only.push_back(argv[i]);
+    else {
+      const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
+      if (!help) std::fprintf(stderr, "compare: unknown argument '%s'\n", argv[i]);
+      std::fprintf(help ? stdout : stderr,
+                   "usage: compare [--quick] [--trackers-only] [--rate HZ] [--out DIR] [--data DIR] "
+                   "[a] [b] [c]\n");
+      return help ? 0 : 2;
+    }
   }
   auto wanted = [&](const char* key) {
     return only.empty() || std::find(only.begin(), only.end(), key) != only.end();

@@ -2,6 +2,7 @@
 // longer than in ctest (the drift case 10^6 steps at 1 kHz). Prints one Markdown row per case
 // and exits non-zero if any case fails its tolerance, has a NaN or loses track.
 // Usage: stress_suite [--short] [--seed N] [case ...]
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -17,15 +18,29 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 20261123;
   if (const char* env = std::getenv("EXTREMAL_SEED")) seed = std::strtoull(env, nullptr, 10);
   std::vector<std::string> names;
+  const std::vector<std::string> known = stress_case_names();
+  auto usage = [&](FILE* to) {
+    std::fprintf(to, "usage: stress_suite [--short] [--seed N] [case ...]\ncases:");
+    for (const std::string& k : known) std::fprintf(to, " %s", k.c_str());
+    std::fprintf(to, "\n");
+  };
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--short"))
+    if (!std::strcmp(argv[i], "--short")) {
       length = Stress_length::Short;
-    else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc)
+    } else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) {
       seed = std::strtoull(argv[++i], nullptr, 10);
-    else
+    } else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      usage(stdout);
+      return 0;
+    } else if (std::find(known.begin(), known.end(), argv[i]) != known.end()) {
       names.push_back(argv[i]);
+    } else {
+      std::fprintf(stderr, "stress_suite: unknown argument or case '%s'\n", argv[i]);
+      usage(stderr);
+      return 2;
+    }
   }
-  if (names.empty()) names = stress_case_names();
+  if (names.empty()) names = known;
   std::printf("stress suite, %s mode, EXTREMAL_SEED=%llu\n\n",
               length == Stress_length::Long ? "long" : "short",
               static_cast<unsigned long long>(seed));
