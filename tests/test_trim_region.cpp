@@ -78,7 +78,9 @@ TEST(TrimRegion, SquareWithCircularHoleMatchesGeometry) {
       const double dist = std::min(std::abs(dr), std::abs(dsq));
       const bool truth = dsq < 0 && dr > 0;
       const Trim_location loc = region.locate(u, v);
-      if (dist > region.tolerance()) {
+      // On_boundary reaches 1.5 tolerances from the exact curve (the band around a polyline
+      // within half a tolerance of it).
+      if (dist > 1.5 * region.tolerance()) {
         ASSERT_EQ(loc, truth ? Trim_location::Inside : Trim_location::Outside)
             << "(" << u << ", " << v << ")";
       } else if (loc != Trim_location::On_boundary) {
@@ -95,6 +97,70 @@ TEST(TrimRegion, SquareWithCircularHoleMatchesGeometry) {
     EXPECT_GT(inside, 0);
     EXPECT_GT(outside, 0);
   }
+}
+
+// Sixteen circular holes in a square: slabs that hold many segments, and boxes: box_outside
+// must never claim a box that holds a point of the face, and must claim boxes well inside a
+// hole or beyond the square.
+TEST(TrimRegion, ManyHolesClassifyPointsAndBoxes) {
+  const std::uint64_t s = seed();
+  SCOPED_TRACE(::testing::Message() << "rerun with EXTREMAL_SEED=" << s);
+  std::mt19937_64 rng(s);
+  std::vector<Trim_loop> loops{square_loop(0.0, 1.0, true)};
+  const double r = 0.08;
+  auto centre = [](int i) { return 0.125 + 0.25 * i; };
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      Trim_loop hole;
+      hole.is_outer = false;
+      hole.curves.push_back({circle(centre(i), centre(j), r), -1, (i + j) % 2 == 0});
+      loops.push_back(hole);
+    }
+  const Trim_region region(loops, 1e-6);
+  ASSERT_GT(region.number_of_segments(), 200u);
+  // Signed distance to the face's boundary: positive inside the face.
+  auto depth = [&](double u, double v) {
+    double d = 0.5 - std::max(std::abs(u - 0.5), std::abs(v - 0.5));
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) d = std::min(d, std::hypot(u - centre(i), v - centre(j)) - r);
+    return d;
+  };
+  std::uniform_real_distribution<double> U(-0.1, 1.1);
+  for (int k = 0; k < 100000; ++k) {
+    const double u = U(rng), v = U(rng);
+    const double d = depth(u, v);
+    const Trim_location loc = region.locate(u, v);
+    // The band is the tolerance around a polyline within half of it of the circles.
+    if (loc != Trim_location::On_boundary) {
+      ASSERT_EQ(loc, d > 0 ? Trim_location::Inside : Trim_location::Outside)
+          << "(" << u << ", " << v << ")";
+    } else {
+      ASSERT_LE(std::abs(d), 1.5 * region.tolerance()) << "(" << u << ", " << v << ")";
+    }
+    if (std::abs(d) < 0.5 * region.tolerance()) {
+      ASSERT_EQ(loc, Trim_location::On_boundary) << "(" << u << ", " << v << ")";
+    }
+  }
+  std::uniform_real_distribution<double> W(0.0, 0.06);
+  int claimed = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double u0 = U(rng), v0 = U(rng), u1 = u0 + W(rng), v1 = v0 + W(rng);
+    const bool outside = region.box_outside(u0, v0, u1, v1);
+    claimed += outside;
+    // The box's distance to the face, from its sampled points (the face lies where depth > 0).
+    double most = -HUGE_VAL;
+    for (int a = 0; a <= 8; ++a)
+      for (int b = 0; b <= 8; ++b)
+        most = std::max(most, depth(u0 + (u1 - u0) * a / 8, v0 + (v1 - v0) * b / 8));
+    if (outside) {
+      ASSERT_LT(most, 0.0) << "box at (" << u0 << ", " << v0 << ") holds a face point";
+    }
+  }
+  EXPECT_GT(claimed, 1000);
+  // Well inside a hole, and beyond the square.
+  EXPECT_TRUE(region.box_outside(centre(1) - 0.03, centre(2) - 0.03, centre(1) + 0.03, centre(2) + 0.03));
+  EXPECT_TRUE(region.box_outside(1.01, 0.2, 1.05, 0.9));
+  EXPECT_FALSE(region.box_outside(0.24, 0.24, 0.26, 0.26));
 }
 
 TEST(TrimRegion, PointsOnTheExactBoundaryAreOnBoundary) {
