@@ -715,15 +715,25 @@ void Solver::corner_candidates(const Live_node& a, const Live_node& b) {
   const Vec3* cb = m_side[1].cart(b);
   const Distance_hierarchy& ha = *m_side[0].h;
   const Distance_hierarchy& hb = *m_side[1].h;
+  // Only pairs that can beat the best witness (offer takes nothing else) are asked whether
+  // their corners lie on the body (inside the trim: a point location each), once per corner.
+  const double limit2 = m_best.distance < HUGE_VAL
+                            ? m_best.distance * m_best.distance * (1.0 + 1e-12)
+                            : HUGE_VAL;
   double best = HUGE_VAL;
   int bi = -1, bj = -1;
+  int on_b[4] = {-1, -1, -1, -1};  // unknown, no, yes
   for (int i = 0; i < corner_count(a); ++i) {
-    double q[2];
-    const Vec3& p = ca[corner(a, i, q)];
-    if (!ha.on_body(a.element, q)) continue;  // outside the trim: not on the body
+    double qa[2], qb[2];
+    const Vec3& p = ca[corner(a, i, qa)];
+    int on_a = -1;
     for (int j = 0; j < corner_count(b); ++j) {
-      const double d2 = (cb[corner(b, j, q)] - p).squaredNorm();
-      if (d2 < best && hb.on_body(b.element, q)) {
+      const double d2 = (cb[corner(b, j, qb)] - p).squaredNorm();
+      if (!(d2 < best && d2 < limit2)) continue;
+      if (on_a < 0) on_a = ha.on_body(a.element, qa) ? 1 : 0;
+      if (!on_a) break;  // outside the trim: not on the body
+      if (on_b[j] < 0) on_b[j] = hb.on_body(b.element, qb) ? 1 : 0;
+      if (on_b[j]) {
         best = d2;
         bi = i;
         bj = j;
