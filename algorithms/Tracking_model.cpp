@@ -566,30 +566,27 @@ int Tracking_model::nearest_edge(int f, const Vec3& p, double& t, const Vec3* to
   const int* edges = edges_of(f, count);
   int best = -1;
   double best_d = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < count; ++k) {
-    double d;
-    const double te = project_on_curve(*m_primitives[edges[k]].feature.curve(), p, d);
-    if (d < best_d) best_d = d, best = edges[k], t = te;
-  }
-  if (!toward || best < 0) return best;
-  // Ties: at a corner every edge through it projects p onto its end. Without this, the point
-  // could be handed to an edge along which the distance rises, whose face then hands it
-  // straight back (a face-edge ping-pong at every step).
-  const double tie = best_d + 1e-7 * diagonal(m_box);
+  // Ties (with `toward`): at a corner every edge through it projects p onto its end. Taking the
+  // first could hand the point to an edge along which the distance rises, whose face then
+  // hands it straight back (a face-edge ping-pong at every step). Edges within `tie` of the
+  // nearest are told apart by the slope of the squared distance to `toward` along them.
+  const double tie = 1e-7 * diagonal(m_box);
   double best_slope = HUGE_VAL;
   for (int k = 0; k < count; ++k) {
     const Nurbs_curve_3& c = *m_primitives[edges[k]].feature.curve();
     double d;
     const double te = project_on_curve(c, p, d);
-    if (!(d <= tie)) continue;
+    if (!toward) {
+      if (d < best_d) best_d = d, best = edges[k], t = te;
+      continue;
+    }
+    if (!(d <= best_d + tie)) continue;
     Curve_point cp;
     c.evaluate(te, cp, 1);
     const double speed = cp.d1.norm();
-    if (!(speed > 0.0)) continue;
-    // Rate of change of the squared distance per unit length, moving into the edge from te.
-    const double rate = (cp.p - *toward).dot(cp.d1) / speed;
-    // From an end the point can only move into the edge; from inside (or the joint of a
-    // closed edge) either way.
+    // Rate of change per unit length, moving along the edge from te; from an end the point
+    // can only move into the edge, from inside (or the joint of a closed edge) either way.
+    const double rate = speed > 0.0 ? (cp.p - *toward).dot(cp.d1) / speed : 0.0;
     const double span = c.domain_max() - c.domain_min();
     const bool at_lo = te <= c.domain_min() + 1e-12 * span;
     const bool at_hi = te >= c.domain_max() - 1e-12 * span;
@@ -601,7 +598,12 @@ int Tracking_model::nearest_edge(int f, const Vec3& p, double& t, const Vec3* to
       closed = (lo.p - hi.p).norm() <= 1e-9 * diagonal(m_box);
     }
     const double slope = closed ? -std::abs(rate) : at_lo ? rate : at_hi ? -rate : -std::abs(rate);
-    if (slope < best_slope) best_slope = slope, best = edges[k], t = te;
+    if (best < 0 || d < best_d - tie || slope < best_slope) {
+      best = edges[k];
+      t = te;
+      best_slope = slope;
+    }
+    best_d = std::min(best_d, d);
   }
   return best;
 }
