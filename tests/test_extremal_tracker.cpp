@@ -132,6 +132,29 @@ TEST(ExtremalTracker, EveryPairKindTracksAMovingPair) {
   }
 }
 
+TEST(ExtremalTracker, PairHeldAtTheEndOfBsCurveConvergesQuadratically) {
+  // A segment (B) leaving a unit sphere (A): the nearest pair is the segment's start, held on
+  // its bound, over the sphere's point towards it. With B's parameter held, the corrections
+  // solve the sphere's 2 x 2 Newton system: quadratic convergence. (The held row's identity
+  // padding was negated with B's rows, which shifted the Hessian to about twice itself: half
+  // steps, linear convergence, every correction spent.)
+  const Nurbs_surface_3 sphere = make_sphere(1.0);
+  const Vec3 start(0.3, 0.2, 2.0), end(2.0, 1.0, 4.0);
+  const Nurbs_curve_3 segment(1, {Point_3(start.x(), start.y(), start.z()),
+                                  Point_3(end.x(), end.y(), end.z())}, {0, 0, 1, 1});
+  const Feature a = Feature::surface(sphere), b = Feature::curve(segment);
+  Tracker_options options = Tracker_options::with_gain(0.0);
+  options.corrections = 10;
+  // Sphere parameters about 0.05 off the solution's, the segment 0.2 along.
+  const double u = std::atan2(start.y(), start.x()), v = std::asin(start.z() / start.norm());
+  Extremal_tracker tracker(a, b, Vec4(u + 0.05, v - 0.05, 0.2, 0.0), options);
+  const Rigid_pose_3 X;
+  const Track_result r = tracker.step(0.0, X, Twist_3{}, X, Twist_3{}, 1e-3);
+  EXPECT_NEAR(r.distance, start.norm() - 1.0, 1e-13);
+  EXPECT_EQ(r.params[2], 0.0);
+  EXPECT_LE(r.iterations, 8) << "linear solves spent (all 11 before)";
+}
+
 TEST(ExtremalTracker, SingularJacobianFallsBackWithoutMovingAndSaysSo) {
   // A point at the centre of a sphere: every point is extremal, M vanishes.
   const Nurbs_surface_3 sphere = make_sphere(1.0);
