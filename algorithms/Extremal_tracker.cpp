@@ -154,6 +154,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   m_last_signed = signed_distance(on_bound);
   Solve_mode mode = solve_mode_for(m_system);
   mode.scaled_shift = true;
+  mode.damp_when_b_held = false;
   // Seek a minimum in the projection form while apart. The penetration pair is a saddle and
   // is tracked as such, but only once the pair is nearly converged: far from it the sign of
   // the distance means nothing yet.

@@ -387,14 +387,14 @@ bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const 
   if (mode.minimum) {
     // H = S A is the Hessian of |d|^2 / 2 (symmetric up to rounding). A frozen row is the
     // identity padding, not one of B's rows. Negated, it makes H indefinite, and the shift
-    // that follows about doubles the free block: half steps, linear convergence. The tracker
-    // (scaled shift) keeps it positive: before, its edge pairs held at an end of B's parameter
-    // used all their corrections on most steps. Newton at rest (the global solver's polish)
-    // still negates it: that heavy damping is what carries its polish onto a pole held on a
-    // bound (a sphere's pole over a plane: 4.5e-10 from the pole with it, 1.1e-6 without).
-    // Damping made for poles at rest would let it go too.
+    // that follows about doubles the free block: half steps, linear convergence, which cost
+    // the tracker all its corrections on most steps of edge pairs held at an end of B's
+    // parameter. Newton at rest (the global solver's polish) keeps that damping
+    // (damp_when_b_held): it is what settles its polish on a pole held on a bound (a sphere's
+    // pole over a plane: 4.5e-10 from the pole with it, 1.1e-6 without). Damping made for
+    // poles at rest would let it go.
     for (int k = mode.na; k < n; ++k) {
-      if (mode.scaled_shift && (frozen & (1u << k))) continue;
+      if (!mode.damp_when_b_held && (frozen & (1u << k))) continue;
       A.row(k) = -A.row(k);
       r[k] = -r[k];
     }

@@ -101,6 +101,11 @@ struct Solve_mode {
   bool scaled_shift = false;
   // S M is exactly symmetric (Pair_system::symmetric_hessian): no symmetrising mean needed.
   bool symmetric = false;
+  // Seeking a minimum with a parameter of B held on its bound: its identity row is negated with
+  // B's rows, so H is shifted and every step heavily damped. Newton at rest relies on that to
+  // settle on a pole held on a bound; the tracker turns it off (its steps there would be half
+  // Newton steps: linear convergence).
+  bool damp_when_b_held = true;
 };
 
 // The Solve_mode for a pair system: seeking a minimum unless `minimum` is false.
