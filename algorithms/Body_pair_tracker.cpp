@@ -464,6 +464,11 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // solve reports, and the other pairs' bound decays as before; a deeper minimum of the face
     // away from the side is found as any other basin (its pairs are neither set aside nor
     // above it).
+    auto solve = [&](const Distance_request& r) {
+      return extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
+                                       m_model_b->hierarchy(), X_WB, B.global_element, r,
+                                       m_workspace);
+    };
     unsigned carried_a = carried_sides(0, pa, pb, tol);
     unsigned carried_b = carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;
@@ -478,22 +483,16 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       crease.cutoff = need + crease_slack;
       crease.carried_min_reach = crease_slack;
       crease.max_nodes = k_crease_nodes;
-      g = extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
-                                    m_model_b->hierarchy(), X_WB, B.global_element, crease,
-                                    m_workspace);
+      g = solve(crease);
       ++m_report.vacated_crease_solves;
       // Not settled within its budget (a stationary point of the pair between the tracked
       // minimum and the cutoff): the usual solve, to the witness.
       if (!(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
-        g = extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
-                                      m_model_b->hierarchy(), X_WB, B.global_element, request,
-                                      m_workspace);
+        g = solve(request);
         carried_a = carried_b = 0u;
       }
     } else {
-      g = extremal_distance_between(m_model_a->hierarchy(), X_WA, A.global_element,
-                                    m_model_b->hierarchy(), X_WB, B.global_element, request,
-                                    m_workspace);
+      g = solve(request);
     }
     C.lower = g.uncarried_lower_bound;
     C.at = m_relative;
@@ -596,13 +595,12 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       // A tracker may have arrived by a transition.
       if (!tracks(key)) seed_pair(key_a(key), key_b(key), X_WA, X_WB);
     } else {
-      if (m_candidates[i].lower > m_next_candidates[j].lower) {
-        m_next_candidates[j].lower = m_candidates[i].lower;
-        m_next_candidates[j].at = m_candidates[i].at;
-        m_next_candidates[j].reach = m_candidates[i].reach;
-        m_next_candidates[j].carried = m_candidates[i].carried;
-      }
-      m_next_candidates[j].slack = m_candidates[i].slack;
+      // The carried bound (with its pose, reach and carried sides) when it is the higher one;
+      // the slack in any case.
+      if (m_candidates[i].lower > m_next_candidates[j].lower)
+        m_next_candidates[j] = m_candidates[i];
+      else
+        m_next_candidates[j].slack = m_candidates[i].slack;
       ++i;
       ++j;
     }
