@@ -590,14 +590,8 @@ int Tracking_model::nearest_edge(int f, const Vec3& p, double& t, const Vec3* to
     const double span = c.domain_max() - c.domain_min();
     const bool at_lo = te <= c.domain_min() + 1e-12 * span;
     const bool at_hi = te >= c.domain_max() - 1e-12 * span;
-    bool closed = c.is_closed();
-    if (!closed && (at_lo || at_hi)) {
-      Curve_point lo, hi;
-      c.evaluate(c.domain_min(), lo, 0);
-      c.evaluate(c.domain_max(), hi, 0);
-      closed = (lo.p - hi.p).norm() <= 1e-9 * diagonal(m_box);
-    }
-    const double slope = closed ? -std::abs(rate) : at_lo ? rate : at_hi ? -rate : -std::abs(rate);
+    const double slope =
+        c.is_closed() ? -std::abs(rate) : at_lo ? rate : at_hi ? -rate : -std::abs(rate);
     if (best < 0 || d < best_d - tie || slope < best_slope) {
       best = edges[k];
       t = te;
