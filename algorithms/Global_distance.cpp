@@ -1078,19 +1078,15 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
   }
   for (int k = 0; k < n.dim; ++k) {
     const internal::Interval g = dot(r, e.d[k]);
-    double dmax = 0.0;
-    for (int c = 0; c < 3; ++c) dmax = std::max({dmax, std::abs(e.d[k][c].lo), std::abs(e.d[k][c].hi)});
-    const double margin = 1e-12 * rmax * dmax;  // far above the rounding of the enclosure
+    // Largest magnitude of each coordinate of the derivative over the node.
+    double m[3];
+    for (int c = 0; c < 3; ++c) m[c] = std::max(std::abs(e.d[k][c].lo), std::abs(e.d[k][c].hi));
+    const double margin = 1e-12 * rmax * std::max({m[0], m[1], m[2]});  // far above rounding
     if (g.lo > margin || g.hi < -margin) {
       // The other side's points moving by s (this side's frame) change the component by at
       // most s |d_k|: it keeps its sign while s stays below this reach. Too short a reach
       // (a component near zero somewhere on the pair): split further instead.
-      double dk = 0.0;
-      for (int c = 0; c < 3; ++c) {
-        const double m = std::max(std::abs(e.d[k][c].lo), std::abs(e.d[k][c].hi));
-        dk += m * m;
-      }
-      dk = std::sqrt(dk);
+      const double dk = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
       const double reach = ((g.lo > margin ? g.lo : -g.hi) - margin) / dk;
       if (reach < m_req.carried_min_reach) continue;
       m_reach[side] = std::min(m_reach[side], reach);
@@ -1339,12 +1335,12 @@ Distance_result Solver::run() {
       }
     }
   }
+  // Smallest bound of the pairs pruned, settled or left open (set-aside pairs are in none).
+  const double open_lower = heap.empty() ? dropped : std::min(dropped, heap.front().lower);
   // Bounds that reach zero with a witness that does not: look for a common point from the
   // witness, so that bodies that meet are never reported a rounding error apart.
   if (!m_met && m_best.ea >= 0 && m_best.distance > m_resolution) {
-    double lower = std::min(dropped, m_best.distance);
-    if (!heap.empty()) lower = std::min(lower, heap.front().lower);
-    if (lower <= m_resolution) {
+    if (std::min(open_lower, m_best.distance) <= m_resolution) {
       const int na = feature(0, m_best.ea).dimension();
       Vec4 x = Vec4::Zero();
       for (int k = 0; k < na; ++k) x[k] = m_best.qa[k];
@@ -1354,9 +1350,7 @@ Distance_result Solver::run() {
   }
   result.pairs_processed = pops;
   fill(result);
-  result.uncarried_lower_bound = dropped;
-  if (!heap.empty()) result.uncarried_lower_bound = std::min(dropped, heap.front().lower);
-  result.uncarried_lower_bound = std::max(0.0, result.uncarried_lower_bound);
+  result.uncarried_lower_bound = std::max(0.0, open_lower);
   result.carried_reach = {m_reach[0], m_reach[1]};
   if (m_met || m_best.distance <= m_resolution) {
     // The bodies meet: report exactly zero, never a rounding-level positive number.
@@ -1371,9 +1365,7 @@ Distance_result Solver::run() {
     result.tolerance_used = tolerance();
     return result;
   }
-  double lower = std::min(dropped, m_best.distance);
-  if (!heap.empty()) lower = std::min(lower, heap.front().lower);
-  result.lower_bound = std::max(0.0, lower);
+  result.lower_bound = std::max(0.0, std::min(open_lower, m_best.distance));
   result.tolerance_used = tolerance();
   const double gap = result.upper_bound - result.lower_bound;
   if (out_of_budget)
