@@ -417,8 +417,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // side shared with a face whose pair is tracked) stay so while the relative motion is
     // below their gradient's reach and the carrying pairs are still tracked (see below).
     const Approach moved = approach_bound(A.box, B.box, C.at, m_relative);
-    if (C.lower - moved.closer >= need && moved.move_b < C.reach[0] &&
-        moved.move_a < C.reach[1] && carriers_tracked(C))
+    const bool clear = C.lower - moved.closer >= need;
+    if (clear && moved.move_b < C.reach[0] && moved.move_a < C.reach[1] && carriers_tracked(C))
       continue;
     const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
     if (boxes >= need) {
@@ -432,6 +432,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // pair when it holds something closer than the tracked minimum, and otherwise leaves a
     // lower bound that stays clear of `need` for the next steps.
     ++m_report.vacated_solves;
+    if (clear) ++m_report.vacated_reach_solves;
     const double step_motion = approach_bound(A.box, B.box, m_previous_relative, m_relative).closer;
     // At most the broad phase's margin: a cutoff far above the minimum would have the solver
     // settle every pair below it. When one step's motion exceeds that margin (low rates) the
@@ -709,6 +710,9 @@ void Body_pair_tracker::step_live(int k) {
     return;
   }
   L.result = L.tracker.step(m_t, *m_XA, *m_VA, *m_XB, *m_VB, m_dt);
+  m_report.corrections += L.result.corrections;
+  if (m_options.tracker.corrections > 0 && L.result.corrections == m_options.tracker.corrections)
+    ++m_report.capped_corrections;
   const int na = A.feature.dimension();
   L.valid = (!A.is_surface() || MA.contains(L.pa, L.result.params.data())) &&
             (!B.is_surface() || MB.contains(L.pb, L.result.params.data() + na));

@@ -63,6 +63,12 @@ struct Pair_report {
   // Of those solves, the ones on a face sharing a patch side with a tracked face (a crease:
   // the side declared carried, see Body_pair_tracker::check_vacated).
   long vacated_crease_solves = 0;
+  // Of those solves, the ones whose carried bound still cleared the tracked minimum: the reach
+  // of its set-aside proofs (or the tracking of its carried sides) had run out.
+  long vacated_reach_solves = 0;
+  // Totals since the start over the trackers' steps: corrections run (Tracker_options), and
+  // the steps that ran all of them without converging first.
+  long corrections = 0, capped_corrections = 0;
 };
 
 struct Body_pair_options {

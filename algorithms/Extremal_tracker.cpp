@@ -286,7 +286,8 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
   const int substeps = m_options.substeps;
   const double h = dt / substeps;
   Degeneracy degeneracy = Degeneracy::None;
-  int solves = m_options.corrections > 0 ? correct(X_WA, X_WB, degeneracy) : 0;
+  const int corrections = m_options.corrections > 0 ? correct(X_WA, X_WB, degeneracy) : 0;
+  int solves = corrections;
   Vec4 x = m_params;
   bool result_on_edge = false;
   for (int s = 0; s < substeps; ++s) {
@@ -336,6 +337,7 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
                     : result_on_edge                 ? Track_status::On_boundary
                                                      : Track_status::Tracking;
   m_result.iterations = solves;
+  m_result.corrections = corrections;
   return m_result;
 }
 

@@ -66,6 +66,7 @@ struct Track_result {
   Vec4 projection_errors = Vec4::Zero();
   Vec4 normalised_errors = Vec4::Zero();  // Phi_k / (|d| |tangent_k|)
   int iterations = 0;  // linear solves spent in this step
+  int corrections = 0;  // of them, corrections at the start of the step (Tracker_options)
   Track_status status = Track_status::Tracking;
   Degeneracy degeneracy = Degeneracy::None;
   bool normal_form = false;  // the contact (normal) form of the conditions was active
