@@ -418,14 +418,28 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // below their gradient's reach and the carrying pairs are still tracked (see below).
     const Approach moved = approach_bound(A.box, B.box, C.at, m_relative);
     const bool clear = C.lower - moved.closer >= need;
-    if (clear && moved.move_b < C.reach[0] && moved.move_a < C.reach[1] && carriers_tracked(C))
-      continue;
+    if (clear && carriers_tracked(C)) {
+      const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
+      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_relative) : moved;
+      if (since.move_b < C.reach[0] && since.move_a < C.reach[1]) continue;
+      // Past the reach, which assumed the worst direction of motion: the set-aside pairs
+      // checked again at this pose (the other box moved rigidly) usually still hold.
+      std::array<double, 2> reach;
+      if (proofs_hold(C, reach)) {
+        ++m_report.vacated_proof_checks;
+        C.reach = reach;
+        C.reach_at = m_relative;
+        continue;
+      }
+    }
     const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
     if (boxes >= need) {
       C.lower = boxes;
       C.at = m_relative;
       C.reach = {HUGE_VAL, HUGE_VAL};
+      C.reach_at = m_relative;
       C.carried = {0u, 0u};
+      C.proof_count = 0;
       continue;
     }
     // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
@@ -498,7 +512,10 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     C.lower = g.uncarried_lower_bound;
     C.at = m_relative;
     C.reach = g.carried_reach;
+    C.reach_at = m_relative;
     C.carried = {carried_a, carried_b};
+    C.solved_a = X_WA;
+    keep_proofs(C);
     C.slack = g.element_a < 0 ? slack : 0.0;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
     Vec4 params = Vec4::Zero();
@@ -511,6 +528,46 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     seeded = true;
   }
   if (seeded) step_pending();
+}
+
+bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
+  if (C.proof_count == 0) return false;
+  // The relative motion since the solve as a motion of B with A held, in the solve's world
+  // frame: X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
+  const Rigid_pose_3 move_b = C.solved_a * m_relative * C.at.inverse() * C.solved_a.inverse();
+  const Rigid_pose_3 move_a = move_b.inverse();
+  const double length = C.solved_a.translation().cwiseAbs().maxCoeff() +
+                        m_relative.translation().cwiseAbs().maxCoeff() +
+                        C.at.translation().cwiseAbs().maxCoeff();
+  reach = {HUGE_VAL, HUGE_VAL};
+  for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
+    const Gradient_proof& p = m_proofs[i];
+    double r = 0.0;
+    if (!gradient_proof_holds(p, p.side == 0 ? move_b : move_a, length, r)) return false;
+    reach[p.side] = std::min(reach[p.side], r);
+  }
+  return true;
+}
+
+void Body_pair_tracker::keep_proofs(Candidate& C) {
+  const std::vector<Gradient_proof>& fresh = m_workspace.gradient_proofs();
+  C.proof_count = 0;
+  std::size_t live = fresh.size();
+  for (const Candidate& c : m_candidates) live += static_cast<std::size_t>(c.proof_count);
+  // Ranges of re-solved or dropped candidates are stale: compact when they dominate.
+  if (m_proofs.size() > 2 * live + 1024) {
+    m_proofs_scratch.clear();
+    for (Candidate& c : m_candidates) {
+      const int begin = static_cast<int>(m_proofs_scratch.size());
+      m_proofs_scratch.insert(m_proofs_scratch.end(), m_proofs.begin() + c.proof_begin,
+                              m_proofs.begin() + c.proof_begin + c.proof_count);
+      c.proof_begin = begin;
+    }
+    m_proofs.swap(m_proofs_scratch);
+  }
+  C.proof_begin = static_cast<int>(m_proofs.size());
+  C.proof_count = static_cast<int>(fresh.size());
+  m_proofs.insert(m_proofs.end(), fresh.begin(), fresh.end());
 }
 
 int Body_pair_tracker::find_candidate(std::uint64_t key) const {
@@ -658,6 +715,7 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   for (std::size_t k = 0; k < m_live.size(); ++k)
     if (m_live[k].alive) kill(static_cast<int>(k));
   m_candidates.clear();
+  m_proofs.clear();
   m_started = true;
   const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
                                               X_WB, m_options.global, m_workspace);

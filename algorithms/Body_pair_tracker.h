@@ -64,8 +64,11 @@ struct Pair_report {
   // the side declared carried, see Body_pair_tracker::check_vacated).
   long vacated_crease_solves = 0;
   // Of those solves, the ones whose carried bound still cleared the tracked minimum: the reach
-  // of its set-aside proofs (or the tracking of its carried sides) had run out.
+  // of its set-aside proofs (or the tracking of its carried sides) had run out, and checking
+  // those proofs again at the current pose failed.
   long vacated_reach_solves = 0;
+  // Checks past the reach whose set-aside proofs all still held at the current pose: no solve.
+  long vacated_proof_checks = 0;
   // Totals since the start over the trackers' steps: corrections run (Tracker_options), and
   // the steps that ran all of them without converging first.
   long corrections = 0, capped_corrections = 0;
@@ -192,7 +195,13 @@ class Body_pair_tracker {
     // the sides of A's and B's primitive (carried_sides bits) whose neighbours' pairs must stay
     // tracked.
     std::array<double, 2> reach{{HUGE_VAL, HUGE_VAL}};
+    Rigid_pose_3 reach_at;  // X_AB the reach counts from (`at`, or where the proofs last held)
     std::array<unsigned, 2> carried{{0u, 0u}};
+    // Those set-aside pairs themselves (m_proofs[proof_begin, + proof_count)), in the world
+    // frame of the solve, which placed A at `solved_a`: past the reach, check_vacated checks
+    // them again at the current pose instead of solving again.
+    int proof_begin = 0, proof_count = 0;
+    Rigid_pose_3 solved_a;
     bool tracked = false;  // scratch of check_vacated: a live slot tracks the pair
   };
   std::vector<Candidate> m_candidates, m_next_candidates;
@@ -206,6 +215,13 @@ class Body_pair_tracker {
   unsigned carried_sides(int side, int p, int other, double tol) const;
   // Whether the neighbours across a candidate's carried sides are still tracked.
   bool carriers_tracked(const Candidate& C) const;
+  // Whether every set-aside pair of C's last solve still holds its gradient proof at the
+  // current relative pose; if so, `reach` gets how far each side may move from here on.
+  bool proofs_hold(const Candidate& C, std::array<double, 2>& reach) const;
+  // Appends the workspace's proofs of the last solve to m_proofs as C's (dropping the
+  // ranges of candidates no longer listed when too many are stale).
+  void keep_proofs(Candidate& C);
+  std::vector<Gradient_proof> m_proofs, m_proofs_scratch;
   std::vector<int> m_prims_a, m_prims_b;
   std::vector<Bbox_3> m_world_a, m_world_b;
   struct Broad_scratch;

@@ -383,6 +383,7 @@ struct Distance_scratch {
   std::vector<Known_solution> solutions;
   std::vector<Convex_region> regions;
   std::vector<Hom, Eigen::aligned_allocator<Hom>> region_net;
+  std::vector<Gradient_proof> proofs;  // Distance_workspace::gradient_proofs
 };
 
 }  // namespace internal
@@ -391,6 +392,38 @@ Distance_workspace::Distance_workspace() : m_scratch(std::make_unique<internal::
 Distance_workspace::~Distance_workspace() = default;
 Distance_workspace::Distance_workspace(Distance_workspace&&) noexcept = default;
 Distance_workspace& Distance_workspace::operator=(Distance_workspace&&) noexcept = default;
+const std::vector<Gradient_proof>& Distance_workspace::gradient_proofs() const {
+  return m_scratch->proofs;
+}
+
+bool gradient_proof_holds(const Gradient_proof& p, const Rigid_pose_3& motion, double length,
+                          double& reach) {
+  // The other box moved: centre mapped, half extents through |R|, widened by the rounding of
+  // the pose products and of the map (a few ulps of the lengths involved).
+  const Vec3 c = 0.5 * (p.other_min + p.other_max), h = 0.5 * (p.other_max - p.other_min);
+  const Vec3 moved_c = motion.apply_point(c);
+  const double size = c.cwiseAbs().maxCoeff() + h.cwiseAbs().maxCoeff() +
+                      motion.translation().cwiseAbs().maxCoeff() + length;
+  const Vec3 moved_h = motion.rotation().cwiseAbs() * h +
+                       Vec3::Constant(64.0 * std::numeric_limits<double>::epsilon() * size);
+  // (p_side - p_other) . d over the boxes, as holds_no_minimum takes it.
+  internal::Interval g{0.0, 0.0};
+  double rmax = 0.0, dmax = 0.0, d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const internal::Interval r{p.own_min[k] - (moved_c[k] + moved_h[k]),
+                               p.own_max[k] - (moved_c[k] - moved_h[k])};
+    g = g + r * internal::Interval{p.derivative_min[k], p.derivative_max[k]};
+    rmax = std::max({rmax, std::abs(r.lo), std::abs(r.hi)});
+    const double m = std::max(std::abs(p.derivative_min[k]), std::abs(p.derivative_max[k]));
+    dmax = std::max(dmax, m);
+    d2 += m * m;
+  }
+  const double margin = 1e-12 * rmax * dmax;  // as holds_no_minimum's: far above rounding
+  const double clearance = g.lo > margin ? g.lo - margin : (g.hi < -margin ? -g.hi - margin : 0.0);
+  if (!(clearance > 0.0)) return false;
+  reach = clearance / std::sqrt(d2);
+  return true;
+}
 
 // ---- The branch and bound -------------------------------------------------------------------
 
@@ -1090,6 +1123,23 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
       const double reach = ((g.lo > margin ? g.lo : -g.hi) - margin) / dk;
       if (reach < m_req.carried_min_reach) continue;
       m_reach[side] = std::min(m_reach[side], reach);
+      Gradient_proof& p = m_scratch.proofs.emplace_back();
+      p.side = side;
+      p.component = k;
+      p.own_min = n.bmin;
+      p.own_max = n.bmax;
+      p.other_min = o.bmin;
+      p.other_max = o.bmax;
+      for (int c = 0; c < 3; ++c) {
+        p.derivative_min[c] = e.d[k][c].lo;
+        p.derivative_max[c] = e.d[k][c].hi;
+      }
+      for (int j = 0; j < 2; ++j) {
+        p.own_lo[j] = n.lo[j];
+        p.own_hi[j] = n.hi[j];
+        p.other_lo[j] = o.lo[j];
+        p.other_hi[j] = o.hi[j];
+      }
       return true;
     }
   }
@@ -1226,6 +1276,7 @@ Distance_result Solver::run() {
   m_scratch.heap.clear();
   m_scratch.solutions.clear();
   m_scratch.regions.clear();
+  m_scratch.proofs.clear();
 
   // Floating-point resolution of the scene: coordinates are good to a few ulps of their size.
   const Bbox_3 wa = transformed(m_side[0].h->box(), *m_side[0].X);

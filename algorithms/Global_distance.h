@@ -229,6 +229,28 @@ namespace internal {
 struct Distance_scratch;
 }
 
+// A sub-patch pair that a query set aside for a carried boundary (see
+// Distance_request::carried_sides): over it, one component of the gradient of |f_A - f_B|^2
+// along one element's parameters does not vanish. The gradient is (p_side - p_other) . d, so
+// the proof is the two sub-patch boxes and an enclosure of d, all in the world frame of the
+// query: a caller can re-check it after the bodies moved (move the other box rigidly, take the
+// interval product again) rather than solve again, e.g. Body_pair_tracker.
+struct Gradient_proof {
+  int side = 0;  // 0: the derivative is along A's parameters (A's box is `own`), 1: along B's
+  int component = 0;  // the parameter it is along
+  Vec3 own_min = Vec3::Zero(), own_max = Vec3::Zero();      // box of the side's sub-patch
+  Vec3 other_min = Vec3::Zero(), other_max = Vec3::Zero();  // box of the other side's
+  Vec3 derivative_min = Vec3::Zero(), derivative_max = Vec3::Zero();  // the derivative's box
+  // The two sub-patches' parameter boxes (a curve's second parameter: 0 to 0).
+  std::array<double, 2> own_lo{{0, 0}}, own_hi{{0, 0}}, other_lo{{0, 0}}, other_hi{{0, 0}};
+};
+// Whether proof p still holds once the other side's points have moved by `motion` (a rigid map
+// of the query's world frame, the proof's side held still). `length` bounds the translations
+// `motion` was composed from (the rounding of that product). If it holds, `reach` is how much
+// farther the other side's points may then move, in any direction, before it can fail.
+bool gradient_proof_holds(const Gradient_proof& p, const Rigid_pose_3& motion, double length,
+                          double& reach);
+
 // Buffers of the branch and bound, kept between queries (one per thread).
 class Distance_workspace {
  public:
@@ -237,6 +259,8 @@ class Distance_workspace {
   Distance_workspace(Distance_workspace&&) noexcept;
   Distance_workspace& operator=(Distance_workspace&&) noexcept;
   internal::Distance_scratch& scratch() { return *m_scratch; }
+  // The pairs the last query set aside (empty when it set none aside).
+  const std::vector<Gradient_proof>& gradient_proofs() const;
 
  private:
   std::unique_ptr<internal::Distance_scratch> m_scratch;

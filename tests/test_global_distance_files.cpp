@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -18,6 +19,7 @@
 #include "support/Cli_run.h"
 #include "algorithms/Global_distance.h"
 #include "io/Model_reader.h"
+#include "kernel/Shapes.h"
 
 namespace extremal {
 namespace {
@@ -109,12 +111,24 @@ Vec3 at(const Nurbs_surface_3& s, double u, double v) {
   return to_vec3(s.point(u, v));
 }
 
-// For the first face of `file`: a probe close to the untrimmed patch outside the trim, then the
-// solver against dense sampling inside the trim.
-void check_trimmed_face(const std::string& file, double offset_fraction, double tolerance) {
+// The first face of `file` whose trim leaves out a tenth of its patch, dense samples of it, and
+// a probe close to the untrimmed patch outside the trim (offset_fraction of the way from the
+// trimmed face), to which the trimmed face's nearest points lie on its trim boundary.
+struct Trimmed_probe {
+  io::Model model;
+  int face_index = -1;
+  Vec3 probe = Vec3::Zero();
+  double sampled = HUGE_VAL;  // sampled distance from the probe to the trimmed face
+  double spacing = 0.0;       // largest 3D step between grid neighbours
+  double h = 0.0;             // the probe's offset
+  double far_d = 0.0;         // the far outside sample's distance to the trimmed face
+};
+
+void make_trimmed_probe(const std::string& file, double offset_fraction, Trimmed_probe& out) {
   io::Read_options options;
   options.trim_tolerance = 1e-9;  // as `extremal distance` reads files
-  const io::Model model = io::read_model(file, options);
+  out.model = io::read_model(file, options);
+  const io::Model& model = out.model;
   ASSERT_FALSE(model.bodies.empty());
   const Body& body = model.bodies.front();
   ASSERT_FALSE(body.faces.empty());
@@ -122,14 +136,15 @@ void check_trimmed_face(const std::string& file, double offset_fraction, double 
   int face_index = -1;
   for (std::size_t f = 0; f < body.faces.size() && face_index < 0; ++f) {
     const Face& c = body.faces[f];
-    int out = 0;
+    int left_out = 0;
     for (int i = 0; i <= 40; ++i)
       for (int k = 0; k <= 40; ++k)
-        out += !c.contains(c.surface.u_min() + (c.surface.u_max() - c.surface.u_min()) * i / 40,
+        left_out += !c.contains(c.surface.u_min() + (c.surface.u_max() - c.surface.u_min()) * i / 40,
                            c.surface.v_min() + (c.surface.v_max() - c.surface.v_min()) * k / 40);
-    if (out > 41 * 41 / 10) face_index = static_cast<int>(f);
+    if (left_out > 41 * 41 / 10) face_index = static_cast<int>(f);
   }
   ASSERT_GE(face_index, 0) << file << ": no face trims away a tenth of its patch";
+  out.face_index = face_index;
   const Face& face = body.faces[face_index];
   ASSERT_TRUE(face.trim_region.is_trimmed()) << file;
   const Nurbs_surface_3& s = face.surface;
@@ -137,7 +152,7 @@ void check_trimmed_face(const std::string& file, double offset_fraction, double 
   std::vector<Vec3> inside;
   std::vector<std::array<double, 2>> outside_q;
   std::vector<Vec3> outside;
-  double spacing = 0.0;  // largest 3D step between grid neighbours
+  double& spacing = out.spacing;
   for (int i = 0; i <= N; ++i)
     for (int k = 0; k <= N; ++k) {
       const double u = s.u_min() + (s.u_max() - s.u_min()) * i / N;
@@ -162,7 +177,8 @@ void check_trimmed_face(const std::string& file, double offset_fraction, double 
   ASSERT_FALSE(outside.empty()) << file << ": the trim covers the whole patch";
   // The outside sample farthest from the trimmed face (coarse pass over a subset).
   std::size_t far = 0;
-  double far_d = -1.0;
+  double& far_d = out.far_d;
+  far_d = -1.0;
   const std::size_t stride_in = std::max<std::size_t>(1, inside.size() / 4000);
   const std::size_t stride_out = std::max<std::size_t>(1, outside.size() / 4000);
   for (std::size_t o = 0; o < outside.size(); o += stride_out) {
@@ -183,21 +199,39 @@ void check_trimmed_face(const std::string& file, double offset_fraction, double 
   Vec3 n = (at(s, uu, v) - at(s, std::max(u - hu, s.u_min()), v))
                .cross(at(s, u, vv) - at(s, u, std::max(v - hv, s.v_min())));
   n = body.placement.apply_vector(n.normalized());
-  const double h = offset_fraction * far_d;
-  const Vec3 probe = outside[far] + h * n;
-  double sampled = HUGE_VAL;
+  const double h = out.h = offset_fraction * far_d;
+  const Vec3 probe = out.probe = outside[far] + h * n;
+  double& sampled = out.sampled;
   for (const Vec3& p : inside) sampled = std::min(sampled, (p - probe).norm());
   ASSERT_GT(sampled, h + 0.1 * far_d) << file << ": the untrimmed patch is not closer";
+}
 
-  Body face_only;  // that face alone, with its edges (its trim boundaries)
+// Face `face_index` of `body` alone, with its edges (its trim boundaries).
+Body face_only_body(const Body& body, int face_index) {
+  Body face_only;
   face_only.name = body.name;
-  face_only.faces.push_back(face);
+  face_only.faces.push_back(body.faces[face_index]);
   face_only.edges = body.edges;
   for (Edge& e : face_only.edges) {
     bool on_face = false;
     for (const Edge_use& use : e.uses) on_face = on_face || use.face == face_index;
     if (!on_face) e.curve.reset();
   }
+  return face_only;
+}
+
+// The solver from a probe close to the untrimmed patch outside the trim, against dense sampling
+// inside the trim.
+void check_trimmed_face(const std::string& file, double offset_fraction, double tolerance) {
+  Trimmed_probe t;
+  make_trimmed_probe(file, offset_fraction, t);
+  if (testing::Test::HasFatalFailure()) return;
+  const Body& body = t.model.bodies.front();
+  const int face_index = t.face_index;
+  const Face& face = body.faces[face_index];
+  const Vec3 probe = t.probe;
+  const double sampled = t.sampled, spacing = t.spacing, h = t.h, far_d = t.far_d;
+  const Body face_only = face_only_body(body, face_index);
   Body point;
   point.name = "probe";
   point.is_point = true;
@@ -243,6 +277,85 @@ TEST(DistanceFiles, TrimmedFaceOfAPartIsFartherThanItsPatch) {
 
 TEST(DistanceFiles, TrimmedFaceOfATurbineIsFartherThanItsPatch) {
   check_trimmed_face(k_data + "/step/ec_turbine-A.stp", 0.2, 1e-9);
+}
+
+// Body_pair_tracker checks a restricted solve's set-aside sub-patch pairs again after motion
+// (gradient_proof_holds) rather than solving again. Every proof that passes must still be true,
+// sampled on both sub-patches: the gradient component keeps one sign, with room for a further
+// motion of its reported reach in any direction. And the check must be able to fail.
+TEST(DistanceFiles, SetAsideProofsCheckedAfterMotionHoldWhereTheySayTheyDo) {
+  Trimmed_probe t;
+  make_trimmed_probe(k_data + "/step/bug27693_cornetta-step.stp", 0.2, t);
+  if (HasFatalFailure()) return;
+  const Body& body = t.model.bodies.front();
+  const Body face = face_only_body(body, t.face_index);
+  const Body ball = make_sphere_body(0.05 * t.far_d);
+  const Rigid_pose_3 X_WA = body.placement, X_WB(Mat3::Identity(), t.probe);
+  const Distance_hierarchy ha(face), hb(ball);
+  Distance_request request;
+  request.absolute_tolerance = 1e-9;
+  request.relative_tolerance = 0.0;
+  Distance_workspace workspace;
+  const Distance_result r = extremal_distance(ha, X_WA, hb, X_WB, request, workspace);
+  ASSERT_TRUE(r.is_certified()) << to_string(r.status);
+  const std::vector<Gradient_proof> proofs = workspace.gradient_proofs();
+  ASSERT_FALSE(proofs.empty()) << "the minimum on the trim boundary set nothing aside";
+  std::printf("[ case     ] %zu pairs set aside, reach %.3g and %.3g of the face's %.3g\n",
+              proofs.size(), r.carried_reach[0], r.carried_reach[1], t.far_d);
+  // Points of A (side 0) and B (side 1) at parameters q, with the derivative along q[k].
+  auto point = [&](int side, const std::array<double, 2>& q, int k, Vec3* d) {
+    const Rigid_pose_3& X = side == 0 ? X_WA : X_WB;
+    Surface_point sp;
+    (side == 0 ? face : ball).faces[0].surface.evaluate(q[0], q[1], sp, 1);
+    if (d) *d = X.apply_vector(k == 0 ? sp.du : sp.dv);
+    return X.apply_point(sp.p);
+  };
+  auto lerp = [](const std::array<double, 2>& lo, const std::array<double, 2>& hi, int i, int j) {
+    return std::array<double, 2>{lo[0] + (hi[0] - lo[0]) * i / 4, lo[1] + (hi[1] - lo[1]) * j / 4};
+  };
+  std::mt19937 rng(20261124);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const std::size_t stride = std::max<std::size_t>(1, proofs.size() / 40);
+  int held = 0, failed = 0;
+  for (int m = 0; m < 30; ++m) {
+    // Turns about a point near the probe and shifts, from a hundredth of the face's distance to
+    // half of it.
+    const double scale = t.far_d * (m % 3 == 0 ? 0.01 : m % 3 == 1 ? 0.1 : 0.5);
+    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    const Vec3 centre = t.probe + scale * Vec3(unit(rng), unit(rng), unit(rng));
+    const Rigid_pose_3 turn(Eigen::AngleAxisd(0.2 * unit(rng) * scale / t.far_d, axis).toRotationMatrix(),
+                            Vec3::Zero());
+    const Rigid_pose_3 motion = Rigid_pose_3(Mat3::Identity(), centre + scale * Vec3(unit(rng), unit(rng), unit(rng))) *
+                                turn * Rigid_pose_3(Mat3::Identity(), -centre);
+    for (std::size_t i = 0; i < proofs.size(); i += stride) {
+      const Gradient_proof& p = proofs[i];
+      double reach = 0.0;
+      if (!gradient_proof_holds(p, motion, 0.0, reach)) {
+        ++failed;
+        continue;
+      }
+      ++held;
+      int sign = 0;
+      for (int a = 0; a <= 4; ++a)
+        for (int b = 0; b <= 4; ++b) {
+          Vec3 d;
+          const Vec3 own = point(p.side, lerp(p.own_lo, p.own_hi, a, b), p.component, &d);
+          for (int c = 0; c <= 4; ++c)
+            for (int e = 0; e <= 4; ++e) {
+              const Vec3 other =
+                  motion.apply_point(point(1 - p.side, lerp(p.other_lo, p.other_hi, c, e), 0, nullptr));
+              const double g = (own - other).dot(d);
+              const int s = g > 0.0 ? 1 : -1;
+              if (sign == 0) sign = s;
+              ASSERT_EQ(s, sign) << "motion " << m << ", proof " << i;
+              ASSERT_GE(std::abs(g), 0.999 * reach * d.norm()) << "motion " << m << ", proof " << i;
+            }
+        }
+    }
+  }
+  std::printf("[ case     ] %d proofs held after motion, %d failed\n", held, failed);
+  EXPECT_GT(held, 0);
+  EXPECT_GT(failed, 0);
 }
 
 }  // namespace
