@@ -417,7 +417,18 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // side shared with a face whose pair is tracked) stay so while the relative motion is
     // below their gradient's reach and the carrying pairs are still tracked (see below).
     const Approach moved = approach_bound(A.box, B.box, C.at, m_relative);
-    const bool clear = C.lower - moved.closer >= need;
+    bool clear = C.lower - moved.closer >= need;
+    if (!clear && C.bound_count > 0) {
+      // The decay assumed the worst direction of motion for the whole pair: its last solve's
+      // bounded sub-patch pairs, re-bounded at this pose, often still clear it.
+      const double now = bounds_now(C, need);
+      if (now >= need) {
+        clear = true;
+        ++m_report.vacated_bound_checks;
+        C.lower = now;
+        C.at = m_relative;
+      }
+    }
     if (clear && carriers_tracked(C)) {
       const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
       const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_relative) : moved;
@@ -439,7 +450,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       C.reach = {HUGE_VAL, HUGE_VAL};
       C.reach_at = m_relative;
       C.carried = {0u, 0u};
-      C.proof_count = 0;
+      C.proof_count = C.bound_count = 0;
       continue;
     }
     // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
@@ -458,6 +469,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
             : std::max(4.0 * tol,
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
+    request.keep_proofs = true;
     request.cutoff = need + slack;
     // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
     request.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
@@ -515,6 +527,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     C.reach_at = m_relative;
     C.carried = {carried_a, carried_b};
     C.solved_a = X_WA;
+    C.solved_at = m_relative;
     keep_proofs(C);
     C.slack = g.element_a < 0 ? slack : 0.0;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
@@ -530,15 +543,19 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
   if (seeded) step_pending();
 }
 
+Rigid_pose_3 Body_pair_tracker::motion_since_solve(const Candidate& C, double& length) const {
+  // X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
+  length = C.solved_a.translation().cwiseAbs().maxCoeff() +
+           m_relative.translation().cwiseAbs().maxCoeff() +
+           C.solved_at.translation().cwiseAbs().maxCoeff();
+  return C.solved_a * m_relative * C.solved_at.inverse() * C.solved_a.inverse();
+}
+
 bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
   if (C.proof_count == 0) return false;
-  // The relative motion since the solve as a motion of B with A held, in the solve's world
-  // frame: X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
-  const Rigid_pose_3 move_b = C.solved_a * m_relative * C.at.inverse() * C.solved_a.inverse();
+  double length = 0.0;
+  const Rigid_pose_3 move_b = motion_since_solve(C, length);
   const Rigid_pose_3 move_a = move_b.inverse();
-  const double length = C.solved_a.translation().cwiseAbs().maxCoeff() +
-                        m_relative.translation().cwiseAbs().maxCoeff() +
-                        C.at.translation().cwiseAbs().maxCoeff();
   reach = {HUGE_VAL, HUGE_VAL};
   for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
     const Gradient_proof& p = m_proofs[i];
@@ -549,25 +566,54 @@ bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& r
   return true;
 }
 
+double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
+  if (C.bound_count == 0) return -HUGE_VAL;
+  double length = 0.0;
+  const Rigid_pose_3 move_b = motion_since_solve(C, length);
+  double lowest = HUGE_VAL;
+  for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
+    lowest = std::min(lowest, bound_after_motion(m_bounds[i], move_b, length));
+    if (lowest < need) break;
+  }
+  return lowest;
+}
+
 void Body_pair_tracker::keep_proofs(Candidate& C) {
-  const std::vector<Gradient_proof>& fresh = m_workspace.gradient_proofs();
-  C.proof_count = 0;
-  std::size_t live = fresh.size();
-  for (const Candidate& c : m_candidates) live += static_cast<std::size_t>(c.proof_count);
-  // Ranges of re-solved or dropped candidates are stale: compact when they dominate.
-  if (m_proofs.size() > 2 * live + 1024) {
-    m_proofs_scratch.clear();
-    for (Candidate& c : m_candidates) {
-      const int begin = static_cast<int>(m_proofs_scratch.size());
-      m_proofs_scratch.insert(m_proofs_scratch.end(), m_proofs.begin() + c.proof_begin,
-                              m_proofs.begin() + c.proof_begin + c.proof_count);
-      c.proof_begin = begin;
-    }
-    m_proofs.swap(m_proofs_scratch);
+  const std::vector<Gradient_proof>& proofs = m_workspace.gradient_proofs();
+  const std::vector<Bound_proof>& bounds = m_workspace.bound_proofs();
+  C.proof_count = C.bound_count = 0;
+  std::size_t live_proofs = proofs.size(), live_bounds = bounds.size();
+  for (const Candidate& c : m_candidates) {
+    live_proofs += static_cast<std::size_t>(c.proof_count);
+    live_bounds += static_cast<std::size_t>(c.bound_count);
+  }
+  // Ranges of re-solved or dropped candidates are stale: compact when they dominate, in place
+  // (ranges slid down in the order they were written), so the pools keep their capacity.
+  if (m_proofs.size() > 2 * live_proofs + 1024 || m_bounds.size() > 2 * live_bounds + 4096) {
+    m_order.clear();
+    for (int i = 0; i < static_cast<int>(m_candidates.size()); ++i) m_order.push_back(i);
+    auto compact = [&](auto& pool, int Candidate::*begin, int Candidate::*count) {
+      std::sort(m_order.begin(), m_order.end(),
+                [&](int x, int y) { return m_candidates[x].*begin < m_candidates[y].*begin; });
+      int next = 0;
+      for (const int i : m_order) {
+        Candidate& c = m_candidates[i];
+        if (next < c.*begin)  // (copying to the left may overlap)
+          std::copy(pool.begin() + c.*begin, pool.begin() + c.*begin + c.*count, pool.begin() + next);
+        c.*begin = next;
+        next += c.*count;
+      }
+      pool.resize(next);
+    };
+    compact(m_proofs, &Candidate::proof_begin, &Candidate::proof_count);
+    compact(m_bounds, &Candidate::bound_begin, &Candidate::bound_count);
   }
   C.proof_begin = static_cast<int>(m_proofs.size());
-  C.proof_count = static_cast<int>(fresh.size());
-  m_proofs.insert(m_proofs.end(), fresh.begin(), fresh.end());
+  C.proof_count = static_cast<int>(proofs.size());
+  m_proofs.insert(m_proofs.end(), proofs.begin(), proofs.end());
+  C.bound_begin = static_cast<int>(m_bounds.size());
+  C.bound_count = static_cast<int>(bounds.size());
+  m_bounds.insert(m_bounds.end(), bounds.begin(), bounds.end());
 }
 
 int Body_pair_tracker::find_candidate(std::uint64_t key) const {
@@ -716,6 +762,7 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     if (m_live[k].alive) kill(static_cast<int>(k));
   m_candidates.clear();
   m_proofs.clear();
+  m_bounds.clear();
   m_started = true;
   const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
                                               X_WB, m_options.global, m_workspace);

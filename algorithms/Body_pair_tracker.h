@@ -69,6 +69,9 @@ struct Pair_report {
   long vacated_reach_solves = 0;
   // Checks past the reach whose set-aside proofs all still held at the current pose: no solve.
   long vacated_proof_checks = 0;
+  // Checks whose carried bound ran out but whose last solve's bounded pairs, re-bounded at the
+  // current pose, still cleared the tracked minimum: no solve.
+  long vacated_bound_checks = 0;
   // Totals since the start over the trackers' steps: corrections run (Tracker_options), and
   // the steps that ran all of them without converging first.
   long corrections = 0, capped_corrections = 0;
@@ -197,11 +200,13 @@ class Body_pair_tracker {
     std::array<double, 2> reach{{HUGE_VAL, HUGE_VAL}};
     Rigid_pose_3 reach_at;  // X_AB the reach counts from (`at`, or where the proofs last held)
     std::array<unsigned, 2> carried{{0u, 0u}};
-    // Those set-aside pairs themselves (m_proofs[proof_begin, + proof_count)), in the world
-    // frame of the solve, which placed A at `solved_a`: past the reach, check_vacated checks
-    // them again at the current pose instead of solving again.
-    int proof_begin = 0, proof_count = 0;
-    Rigid_pose_3 solved_a;
+    // The proofs behind the last restricted solve's result, in its world frame (A placed at
+    // `solved_a`, X_AB = `solved_at`): the pairs it set aside (m_proofs[proof_begin, +
+    // proof_count)) and those it bounded (m_bounds[bound_begin, + bound_count)). When the
+    // carried bound or the reach runs out, check_vacated checks them again at the current pose
+    // instead of solving again.
+    int proof_begin = 0, proof_count = 0, bound_begin = 0, bound_count = 0;
+    Rigid_pose_3 solved_a, solved_at;
     bool tracked = false;  // scratch of check_vacated: a live slot tracks the pair
   };
   std::vector<Candidate> m_candidates, m_next_candidates;
@@ -218,10 +223,18 @@ class Body_pair_tracker {
   // Whether every set-aside pair of C's last solve still holds its gradient proof at the
   // current relative pose; if so, `reach` gets how far each side may move from here on.
   bool proofs_hold(const Candidate& C, std::array<double, 2>& reach) const;
-  // Appends the workspace's proofs of the last solve to m_proofs as C's (dropping the
-  // ranges of candidates no longer listed when too many are stale).
+  // The smallest bound of the pairs C's last solve bounded, re-bounded at the current relative
+  // pose; stops early once one falls below `need`. -infinity if the solve kept none.
+  double bounds_now(const Candidate& C, double need) const;
+  // The relative motion since C's last solve, as a motion of B's points with A held, in that
+  // solve's world frame, and the length its rounding scales with.
+  Rigid_pose_3 motion_since_solve(const Candidate& C, double& length) const;
+  // Appends the workspace's proofs of the last solve to m_proofs and m_bounds as C's
+  // (dropping the ranges of candidates no longer listed when too many are stale).
   void keep_proofs(Candidate& C);
-  std::vector<Gradient_proof> m_proofs, m_proofs_scratch;
+  std::vector<Gradient_proof> m_proofs;
+  std::vector<Bound_proof> m_bounds;
+  std::vector<int> m_order;  // scratch of keep_proofs
   std::vector<int> m_prims_a, m_prims_b;
   std::vector<Bbox_3> m_world_a, m_world_b;
   struct Broad_scratch;

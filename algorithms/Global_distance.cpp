@@ -384,6 +384,7 @@ struct Distance_scratch {
   std::vector<Convex_region> regions;
   std::vector<Hom, Eigen::aligned_allocator<Hom>> region_net;
   std::vector<Gradient_proof> proofs;  // Distance_workspace::gradient_proofs
+  std::vector<Bound_proof> bounds;     // Distance_workspace::bound_proofs
 };
 
 }  // namespace internal
@@ -395,6 +396,36 @@ Distance_workspace& Distance_workspace::operator=(Distance_workspace&&) noexcept
 const std::vector<Gradient_proof>& Distance_workspace::gradient_proofs() const {
   return m_scratch->proofs;
 }
+const std::vector<Bound_proof>& Distance_workspace::bound_proofs() const {
+  return m_scratch->bounds;
+}
+
+namespace {
+// Rounding of a rigid motion applied to points of about this size, composed from translations
+// of up to `length` (a few ulps of the lengths involved, generously).
+double motion_rounding(const Vec3& c, double h, const Rigid_pose_3& motion, double length) {
+  return 64.0 * std::numeric_limits<double>::epsilon() *
+         (c.cwiseAbs().maxCoeff() + h + motion.translation().cwiseAbs().maxCoeff() + length);
+}
+}  // namespace
+
+double bound_after_motion(const Bound_proof& p, const Rigid_pose_3& motion, double length) {
+  const Vec3 c = motion.apply_point(p.b_centre);
+  const Vec3 bc = 0.5 * (p.b_min + p.b_max), bh = 0.5 * (p.b_max - p.b_min);
+  const double rounding = motion_rounding(bc, bh.cwiseAbs().maxCoeff() + p.b_radius, motion, length) +
+                          motion_rounding(p.a_centre, p.a_radius, Rigid_pose_3(), 0.0);
+  const double spin = (motion.rotation() - Mat3::Identity()).norm();  // >= the spectral norm
+  // The bound less how far B's ball can have moved; the gap along the axis less how far it
+  // can have moved along it; the balls' distance now; the boxes'.
+  const Vec3 shift = c - p.b_centre;
+  const double decayed = p.lower - (shift.norm() + spin * p.b_radius);
+  const double along = p.gap + p.axis.dot(shift) - spin * p.b_radius;
+  const double balls = (p.a_centre - c).norm() - p.a_radius - p.b_radius;
+  const Vec3 moved_c = motion.apply_point(bc);
+  const Vec3 moved_h = motion.rotation().cwiseAbs() * bh;
+  const double boxes = internal::box_distance(p.a_min, p.a_max, moved_c - moved_h, moved_c + moved_h);
+  return std::max({decayed, along, balls, boxes}) - rounding;
+}
 
 bool gradient_proof_holds(const Gradient_proof& p, const Rigid_pose_3& motion, double length,
                           double& reach) {
@@ -402,10 +433,8 @@ bool gradient_proof_holds(const Gradient_proof& p, const Rigid_pose_3& motion, d
   // the pose products and of the map (a few ulps of the lengths involved).
   const Vec3 c = 0.5 * (p.other_min + p.other_max), h = 0.5 * (p.other_max - p.other_min);
   const Vec3 moved_c = motion.apply_point(c);
-  const double size = c.cwiseAbs().maxCoeff() + h.cwiseAbs().maxCoeff() +
-                      motion.translation().cwiseAbs().maxCoeff() + length;
   const Vec3 moved_h = motion.rotation().cwiseAbs() * h +
-                       Vec3::Constant(64.0 * std::numeric_limits<double>::epsilon() * size);
+                       Vec3::Constant(motion_rounding(c, h.cwiseAbs().maxCoeff(), motion, length));
   // (p_side - p_other) . d over the boxes, as holds_no_minimum takes it.
   internal::Interval g{0.0, 0.0};
   double rmax = 0.0, dmax = 0.0, d2 = 0.0;
@@ -659,6 +688,8 @@ class Solver {
                        internal::Derivative_enclosure& out, int order);
   double region_bound(const Live_node& a, const Live_node& b) const;
   bool holds_no_minimum(int ia, int ib, int side);
+  // Distance_request::keep_proofs: the pair (a, b) bounded by L.
+  void keep_bound(const Live_node& a, const Live_node& b, double L);
   void classify_meeting();
   void fill(Distance_result& r) const;
 
@@ -1123,6 +1154,7 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
       const double reach = ((g.lo > margin ? g.lo : -g.hi) - margin) / dk;
       if (reach < m_req.carried_min_reach) continue;
       m_reach[side] = std::min(m_reach[side], reach);
+      if (!m_req.keep_proofs) return true;
       Gradient_proof& p = m_scratch.proofs.emplace_back();
       p.side = side;
       p.component = k;
@@ -1144,6 +1176,46 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
     }
   }
   return false;
+}
+
+void Solver::keep_bound(const Live_node& a, const Live_node& b, double L) {
+  if (!m_req.keep_proofs) return;
+  Bound_proof& p = m_scratch.bounds.emplace_back();
+  p.lower = L;
+  p.a_min = a.bmin;
+  p.a_max = a.bmax;
+  p.b_min = b.bmin;
+  p.b_max = b.bmax;
+  p.a_centre = a.centre;
+  p.b_centre = b.centre;
+  p.a_radius = a.radius;
+  p.b_radius = b.radius;
+  if (!a.is_net() || !b.is_net()) return;
+  p.a_element = a.element;
+  p.b_element = b.element;
+  for (int j = 0; j < 2; ++j) {
+    p.a_lo[j] = a.lo[j];
+    p.a_hi[j] = a.hi[j];
+    p.b_lo[j] = b.lo[j];
+    p.b_hi[j] = b.hi[j];
+  }
+  // A separating axis of the two control nets: from the centres' direction, a support-point
+  // step towards the hulls' (as lower_bound takes it).
+  const Vec3* ca = m_side[0].cart(a);
+  const Vec3* cb = m_side[1].cart(b);
+  Vec3 e = b.centre - a.centre;
+  for (int it = 0; it < 2; ++it) {
+    const double len = e.norm();
+    if (!(len > 0.0)) break;
+    const Vec3 n = e / len;
+    int ia = 0, ib = 0;
+    const double gap = internal::axis_separation(ca, a.count(), cb, b.count(), n, ia, ib);
+    if (gap > p.gap) {
+      p.gap = gap;
+      p.axis = n;
+    }
+    e = cb[ib] - ca[ia];
+  }
 }
 
 // Gauss-Newton on f(x_A) = h(x_B) from the centres of the two nodes: a common point ends the
@@ -1277,6 +1349,7 @@ Distance_result Solver::run() {
   m_scratch.solutions.clear();
   m_scratch.regions.clear();
   m_scratch.proofs.clear();
+  m_scratch.bounds.clear();
 
   // Floating-point resolution of the scene: coordinates are good to a few ulps of their size.
   const Bbox_3 wa = transformed(m_side[0].h->box(), *m_side[0].X);
@@ -1359,6 +1432,7 @@ Distance_result Solver::run() {
     const bool sb = m_side[1].splittable(b, m_resolution);
     if (!sa && !sb) {
       dropped = std::min(dropped, top.lower);
+      keep_bound(a, b, top.lower);
       continue;
     }
     const int which = (sa && (!sb || a.size >= b.size)) ? 0 : 1;
@@ -1383,9 +1457,13 @@ Distance_result Solver::run() {
         std::push_heap(heap.begin(), heap.end(), Heap_order());
       } else {
         dropped = std::min(dropped, L);
+        keep_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], L);
       }
     }
   }
+  if (m_req.keep_proofs)
+    for (const Pair_entry& e : heap)
+      keep_bound(m_side[0].pools->nodes[e.a], m_side[1].pools->nodes[e.b], e.lower);
   // Smallest bound of the pairs pruned, settled or left open (set-aside pairs are in none).
   const double open_lower = heap.empty() ? dropped : std::min(dropped, heap.front().lower);
   // Bounds that reach zero with a witness that does not: look for a common point from the

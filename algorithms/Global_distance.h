@@ -177,6 +177,9 @@ struct Distance_request {
   // carried side). A witness below the floor brings the usual pruning back (the closer basin is
   // found). -infinity: the usual pruning.
   double cutoff_floor = -HUGE_VAL;
+  // Keep the proofs behind the result in the workspace (Distance_workspace::gradient_proofs,
+  // bound_proofs), for a caller that checks them again after motion instead of solving again.
+  bool keep_proofs = false;
 };
 
 enum class Distance_status {
@@ -251,6 +254,28 @@ struct Gradient_proof {
 bool gradient_proof_holds(const Gradient_proof& p, const Rigid_pose_3& motion, double length,
                           double& reach);
 
+// A sub-patch pair a query bounded (pruned, settled, or left open when it stopped), with what
+// re-bounding it after the bodies moved needs: its bound and both sub-patches' boxes and balls,
+// in the world frame of the query. With the set-aside pairs (Gradient_proof) and the pieces
+// outside the trims, they cover the two elements' parameter domains.
+struct Bound_proof {
+  double lower = 0.0;  // lower bound on the distance over the pair at the query's poses
+  Vec3 a_min = Vec3::Zero(), a_max = Vec3::Zero(), b_min = Vec3::Zero(), b_max = Vec3::Zero();
+  Vec3 a_centre = Vec3::Zero(), b_centre = Vec3::Zero();
+  double a_radius = 0.0, b_radius = 0.0;  // balls about the centres that hold the sub-patches
+  // A unit axis along which B's control net lies `gap` beyond A's (-infinity: none), whose
+  // bound decays only by the motion along it.
+  Vec3 axis = Vec3::Zero();
+  double gap = -HUGE_VAL;
+  // The sub-patches' parameter boxes (a curve's second parameter: 0 to 0; a group of the
+  // hierarchy above the elements: element -1).
+  int a_element = -1, b_element = -1;
+  std::array<double, 2> a_lo{{0, 0}}, a_hi{{0, 0}}, b_lo{{0, 0}}, b_hi{{0, 0}};
+};
+// A lower bound on the distance over proof p's pair once B's points have moved by `motion` (a
+// rigid map of the query's world frame, A held still); `length` as for gradient_proof_holds.
+double bound_after_motion(const Bound_proof& p, const Rigid_pose_3& motion, double length);
+
 // Buffers of the branch and bound, kept between queries (one per thread).
 class Distance_workspace {
  public:
@@ -259,8 +284,10 @@ class Distance_workspace {
   Distance_workspace(Distance_workspace&&) noexcept;
   Distance_workspace& operator=(Distance_workspace&&) noexcept;
   internal::Distance_scratch& scratch() { return *m_scratch; }
-  // The pairs the last query set aside (empty when it set none aside).
+  // With Distance_request::keep_proofs: the pairs the last query set aside, and the pairs it
+  // bounded.
   const std::vector<Gradient_proof>& gradient_proofs() const;
+  const std::vector<Bound_proof>& bound_proofs() const;
 
  private:
   std::unique_ptr<internal::Distance_scratch> m_scratch;

@@ -77,6 +77,7 @@ struct Audit_stats {
   // Restricted solves of pairs without a tracker, those past their set-aside proofs' reach,
   // and the checks past that reach that the proofs, checked again, cleared without a solve.
   long vacated_solves = 0, reach_solves = 0, proof_checks = 0;
+  long bound_checks = 0;  // checks whose bound ran out, cleared by re-bounding the solve's pairs
   int max_trackers = 0, max_candidates = 0;
   std::vector<int> faces_a, faces_b;  // distinct reported faces
 };
@@ -167,10 +168,11 @@ Audit_stats run_audited(const char* name, const Body& a, const Body& b,
   s.vacated_solves = r.vacated_solves;
   s.reach_solves = r.vacated_reach_solves;
   s.proof_checks = r.vacated_proof_checks;
+  s.bound_checks = r.vacated_bound_checks;
   std::printf("[ case     ] %-28s %ld corrections, %ld steps that ran all of them; %ld restricted "
-              "solves, %ld past their reach, %ld set-aside proofs checked again instead\n", name,
-              s.corrections, s.capped_corrections, s.vacated_solves, s.reach_solves,
-              s.proof_checks);
+              "solves, %ld past their reach; instead, %ld set-aside proofs and %ld bounds "
+              "checked again\n", name, s.corrections, s.capped_corrections, s.vacated_solves,
+              s.reach_solves, s.proof_checks, s.bound_checks);
   std::printf("[ case     ] %-28s %d steps, %d audited: worst relative error %.2e, transitions "
               "%ld, merges %ld, seeds %ld, trackers <= %d, candidates <= %d, faces %zu / %zu, "
               "band audits %d, uncertified %d, certified distances %.4g to %.4g; %.3f s tracking, "

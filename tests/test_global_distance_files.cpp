@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
@@ -279,56 +280,85 @@ TEST(DistanceFiles, TrimmedFaceOfATurbineIsFartherThanItsPatch) {
   check_trimmed_face(k_data + "/step/ec_turbine-A.stp", 0.2, 1e-9);
 }
 
-// Body_pair_tracker checks a restricted solve's set-aside sub-patch pairs again after motion
-// (gradient_proof_holds) rather than solving again. Every proof that passes must still be true,
-// sampled on both sub-patches: the gradient component keeps one sign, with room for a further
-// motion of its reported reach in any direction. And the check must be able to fail.
-TEST(DistanceFiles, SetAsideProofsCheckedAfterMotionHoldWhereTheySayTheyDo) {
+// A trimmed face of a real part against a small ball near it, where the face's nearest points
+// lie on its trim boundary: a certified solve that keeps its proofs, and rigid motions of the
+// ball's side to check them after (Body_pair_tracker checks them rather than solving again).
+struct Kept_proofs {
   Trimmed_probe t;
-  make_trimmed_probe(k_data + "/step/bug27693_cornetta-step.stp", 0.2, t);
-  if (HasFatalFailure()) return;
-  const Body& body = t.model.bodies.front();
-  const Body face = face_only_body(body, t.face_index);
-  const Body ball = make_sphere_body(0.05 * t.far_d);
-  const Rigid_pose_3 X_WA = body.placement, X_WB(Mat3::Identity(), t.probe);
-  const Distance_hierarchy ha(face), hb(ball);
-  Distance_request request;
-  request.absolute_tolerance = 1e-9;
-  request.relative_tolerance = 0.0;
+  Body face, ball;
+  Rigid_pose_3 X_WA, X_WB;
+  std::unique_ptr<Distance_hierarchy> ha, hb;
   Distance_workspace workspace;
-  const Distance_result r = extremal_distance(ha, X_WA, hb, X_WB, request, workspace);
-  ASSERT_TRUE(r.is_certified()) << to_string(r.status);
-  const std::vector<Gradient_proof> proofs = workspace.gradient_proofs();
-  ASSERT_FALSE(proofs.empty()) << "the minimum on the trim boundary set nothing aside";
-  std::printf("[ case     ] %zu pairs set aside, reach %.3g and %.3g of the face's %.3g\n",
-              proofs.size(), r.carried_reach[0], r.carried_reach[1], t.far_d);
-  // Points of A (side 0) and B (side 1) at parameters q, with the derivative along q[k].
-  auto point = [&](int side, const std::array<double, 2>& q, int k, Vec3* d) {
+  Distance_result result;
+  std::mt19937 rng{20261124};
+
+  void solve() {
+    make_trimmed_probe(k_data + "/step/bug27693_cornetta-step.stp", 0.2, t);
+    if (testing::Test::HasFatalFailure()) return;
+    const Body& body = t.model.bodies.front();
+    face = face_only_body(body, t.face_index);
+    ball = make_sphere_body(0.05 * t.far_d);
+    X_WA = body.placement;
+    X_WB = Rigid_pose_3(Mat3::Identity(), t.probe);
+    ha = std::make_unique<Distance_hierarchy>(face);
+    hb = std::make_unique<Distance_hierarchy>(ball);
+    Distance_request request;
+    request.absolute_tolerance = 1e-9;
+    request.relative_tolerance = 0.0;
+    request.keep_proofs = true;
+    result = extremal_distance(*ha, X_WA, *hb, X_WB, request, workspace);
+    ASSERT_TRUE(result.is_certified()) << to_string(result.status);
+  }
+  // Motion m of a run: a turn about a point near the probe and a shift, from a hundredth of
+  // the face's distance to half of it.
+  Rigid_pose_3 motion(int m) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double scale = t.far_d * (m % 3 == 0 ? 0.01 : m % 3 == 1 ? 0.1 : 0.5);
+    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    const Vec3 centre = t.probe + scale * Vec3(unit(rng), unit(rng), unit(rng));
+    const double angle = 0.2 * unit(rng) * scale / t.far_d;
+    const Vec3 shift = scale * Vec3(unit(rng), unit(rng), unit(rng));
+    return Rigid_pose_3(Mat3::Identity(), centre + shift) *
+           Rigid_pose_3(Eigen::AngleAxisd(angle, axis).toRotationMatrix(), Vec3::Zero()) *
+           Rigid_pose_3(Mat3::Identity(), -centre);
+  }
+  // Whether element e of A is its face (the others are its trim edges, the curves).
+  bool is_face(int e) const { return e >= 0 && ha->elements()[e].kind == Element_kind::Face; }
+  // The point of A's face (side 0) or B's (side 1) at parameters q, with the derivative along
+  // q[k].
+  Vec3 point(int side, const std::array<double, 2>& q, int k, Vec3* d) const {
     const Rigid_pose_3& X = side == 0 ? X_WA : X_WB;
     Surface_point sp;
     (side == 0 ? face : ball).faces[0].surface.evaluate(q[0], q[1], sp, 1);
     if (d) *d = X.apply_vector(k == 0 ? sp.du : sp.dv);
     return X.apply_point(sp.p);
-  };
-  auto lerp = [](const std::array<double, 2>& lo, const std::array<double, 2>& hi, int i, int j) {
-    return std::array<double, 2>{lo[0] + (hi[0] - lo[0]) * i / 4, lo[1] + (hi[1] - lo[1]) * j / 4};
-  };
-  std::mt19937 rng(20261124);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  }
+};
+
+// Parameters on a 5 x 5 grid of a box.
+std::array<double, 2> grid(const std::array<double, 2>& lo, const std::array<double, 2>& hi, int i,
+                           int j) {
+  return {lo[0] + (hi[0] - lo[0]) * i / 4, lo[1] + (hi[1] - lo[1]) * j / 4};
+}
+
+// Every set-aside proof that passes after motion must still be true, sampled on both
+// sub-patches: the gradient component keeps one sign, with room for a further motion of its
+// reported reach in any direction. And the check must be able to fail.
+TEST(DistanceFiles, SetAsideProofsCheckedAfterMotionHoldWhereTheySayTheyDo) {
+  Kept_proofs k;
+  k.solve();
+  if (HasFatalFailure()) return;
+  const std::vector<Gradient_proof> proofs = k.workspace.gradient_proofs();
+  ASSERT_FALSE(proofs.empty()) << "the minimum on the trim boundary set nothing aside";
+  std::printf("[ case     ] %zu pairs set aside, reach %.3g and %.3g of the face's %.3g\n",
+              proofs.size(), k.result.carried_reach[0], k.result.carried_reach[1], k.t.far_d);
   const std::size_t stride = std::max<std::size_t>(1, proofs.size() / 40);
   int held = 0, failed = 0;
   for (int m = 0; m < 30; ++m) {
-    // Turns about a point near the probe and shifts, from a hundredth of the face's distance to
-    // half of it.
-    const double scale = t.far_d * (m % 3 == 0 ? 0.01 : m % 3 == 1 ? 0.1 : 0.5);
-    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
-    const Vec3 centre = t.probe + scale * Vec3(unit(rng), unit(rng), unit(rng));
-    const Rigid_pose_3 turn(Eigen::AngleAxisd(0.2 * unit(rng) * scale / t.far_d, axis).toRotationMatrix(),
-                            Vec3::Zero());
-    const Rigid_pose_3 motion = Rigid_pose_3(Mat3::Identity(), centre + scale * Vec3(unit(rng), unit(rng), unit(rng))) *
-                                turn * Rigid_pose_3(Mat3::Identity(), -centre);
+    const Rigid_pose_3 motion = k.motion(m);
     for (std::size_t i = 0; i < proofs.size(); i += stride) {
       const Gradient_proof& p = proofs[i];
+      ASSERT_EQ(p.side, 0);  // the trimmed face's gradient (the ball's is never asked)
       double reach = 0.0;
       if (!gradient_proof_holds(p, motion, 0.0, reach)) {
         ++failed;
@@ -336,26 +366,62 @@ TEST(DistanceFiles, SetAsideProofsCheckedAfterMotionHoldWhereTheySayTheyDo) {
       }
       ++held;
       int sign = 0;
-      for (int a = 0; a <= 4; ++a)
-        for (int b = 0; b <= 4; ++b) {
-          Vec3 d;
-          const Vec3 own = point(p.side, lerp(p.own_lo, p.own_hi, a, b), p.component, &d);
-          for (int c = 0; c <= 4; ++c)
-            for (int e = 0; e <= 4; ++e) {
-              const Vec3 other =
-                  motion.apply_point(point(1 - p.side, lerp(p.other_lo, p.other_hi, c, e), 0, nullptr));
-              const double g = (own - other).dot(d);
-              const int s = g > 0.0 ? 1 : -1;
-              if (sign == 0) sign = s;
-              ASSERT_EQ(s, sign) << "motion " << m << ", proof " << i;
-              ASSERT_GE(std::abs(g), 0.999 * reach * d.norm()) << "motion " << m << ", proof " << i;
-            }
+      for (int a = 0; a < 25; ++a) {
+        Vec3 d;
+        const Vec3 own = k.point(p.side, grid(p.own_lo, p.own_hi, a / 5, a % 5), p.component, &d);
+        for (int b = 0; b < 25; ++b) {
+          const Vec3 other = motion.apply_point(
+              k.point(1 - p.side, grid(p.other_lo, p.other_hi, b / 5, b % 5), 0, nullptr));
+          const double g = (own - other).dot(d);
+          const int s = g > 0.0 ? 1 : -1;
+          if (sign == 0) sign = s;
+          ASSERT_EQ(s, sign) << "motion " << m << ", proof " << i;
+          ASSERT_GE(std::abs(g), 0.999 * reach * d.norm()) << "motion " << m << ", proof " << i;
         }
+      }
     }
   }
   std::printf("[ case     ] %d proofs held after motion, %d failed\n", held, failed);
   EXPECT_GT(held, 0);
   EXPECT_GT(failed, 0);
+}
+
+// The pairs a solve bounded, re-bounded after motion: never above the distance sampled on the
+// two moved sub-patches, and along their separating axes above what the bound less the
+// largest displacement gives (what makes re-bounding worth more than decaying the bound).
+TEST(DistanceFiles, BoundedPairsReboundedAfterMotionStayBelowTheirDistance) {
+  Kept_proofs k;
+  k.solve();
+  if (HasFatalFailure()) return;
+  const std::vector<Bound_proof> bounds = k.workspace.bound_proofs();
+  ASSERT_FALSE(bounds.empty());
+  const std::size_t stride = std::max<std::size_t>(1, bounds.size() / 100);
+  int checked = 0, above_decay = 0;
+  for (int m = 0; m < 30; ++m) {
+    const Rigid_pose_3 motion = k.motion(m);
+    const double spin = (motion.rotation() - Mat3::Identity()).norm();
+    for (std::size_t i = 0; i < bounds.size(); i += stride) {
+      const Bound_proof& p = bounds[i];
+      if (!k.is_face(p.a_element) || p.b_element < 0) continue;  // sampled on faces only
+      const double bound = bound_after_motion(p, motion, 0.0);
+      double sampled = HUGE_VAL;
+      for (int a = 0; a < 25; ++a) {
+        const Vec3 pa = k.point(0, grid(p.a_lo, p.a_hi, a / 5, a % 5), 0, nullptr);
+        for (int b = 0; b < 25; ++b)
+          sampled = std::min(sampled, (pa - motion.apply_point(k.point(
+                                                1, grid(p.b_lo, p.b_hi, b / 5, b % 5), 0, nullptr)))
+                                              .norm());
+      }
+      ASSERT_LE(bound, sampled) << "motion " << m << ", bounded pair " << i;
+      ++checked;
+      const double decayed =
+          p.lower - ((motion.apply_point(p.b_centre) - p.b_centre).norm() + spin * p.b_radius);
+      if (bound > decayed + 1e-3 * k.t.far_d) ++above_decay;
+    }
+  }
+  std::printf("[ case     ] %zu pairs bounded; %d re-bounded after motion, %d of them above the "
+              "decayed bound\n", bounds.size(), checked, above_decay);
+  EXPECT_GT(above_decay, checked / 10);
 }
 
 }  // namespace

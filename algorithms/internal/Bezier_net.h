@@ -89,6 +89,29 @@ inline double axis_gap(const Vec3* a, int na, const Vec3* b, int nb, const Vec3&
   return std::max({0.0, bmin - amax, amin - bmax});
 }
 
+// B's lowest minus A's highest point along n (the gap by which B lies beyond A along n, negative
+// if they overlap along it), and the points that attain them.
+inline double axis_separation(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n,
+                              int& a_top, int& b_bottom) {
+  double amax = -HUGE_VAL, bmin = HUGE_VAL;
+  a_top = b_bottom = 0;
+  for (int k = 0; k < na; ++k) {
+    const double s = n.dot(a[k]);
+    if (s > amax) {
+      amax = s;
+      a_top = k;
+    }
+  }
+  for (int k = 0; k < nb; ++k) {
+    const double s = n.dot(b[k]);
+    if (s < bmin) {
+      bmin = s;
+      b_bottom = k;
+    }
+  }
+  return bmin - amax;
+}
+
 // Like axis_gap, and also the points that attain A's largest and B's smallest projection (the
 // support points along n), from which a better axis can be taken.
 inline double axis_gap_support(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n,
