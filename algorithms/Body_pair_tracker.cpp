@@ -111,6 +111,10 @@ Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_po
 // such a pair reaches k_slack_growth times higher (a far pair settles at its own minimum).
 constexpr double k_slack_steps = 8.0;
 constexpr double k_slack_growth = 4.0;
+// The broad phase reaches this fraction of the margin farther than it must, so that it runs
+// again only once the relative motion since has used that up (between runs the candidate set
+// holds some pairs beyond the reach, whose checks cost little).
+constexpr double k_broad_extra = 0.5;
 // Trim-edge set-asides of a usual restricted solve must outlast this many steps' motion.
 constexpr double k_reach_steps = 2.0;
 // A crease solve (see check_vacated) is cut off this fraction of the broad-phase margin above
@@ -719,6 +723,8 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
   }
   m_candidates.swap(m_next_candidates);
   m_last_relative = relative;
+  m_broad_reach = reach;
+  ++m_report.broad_phases;
 }
 
 bool Body_pair_tracker::seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -1091,12 +1097,17 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       if (L.alive && L.valid) best = std::min(best, L.result.distance);
   };
   step_all();
-  // 2. Broad phase where the relative pose changed: new candidate pairs seeded, far ones gone.
+  // 2. Broad phase where the candidate set may miss a pair within |best| plus the margin (|best|:
+  //    inside, the tracked pair's own primitives lie |best| apart): new candidate pairs seeded,
+  //    far ones gone. A set built with reach R holds every pair that was within R then, so
+  //    every pair within R less the relative motion since (k_broad_extra).
   const double length = std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
-  if (!near_pose(m_relative, m_last_relative, length)) {
-    // |best|: inside, the tracked pair's own primitives lie |best| apart.
-    if (std::isfinite(best)) {
-      broad_phase(X_WA, X_WB, std::abs(best) + reach_margin());
+  if (std::isfinite(best) && !near_pose(m_relative, m_last_relative, length)) {
+    const double need = std::abs(best) + reach_margin();
+    const double moved =
+        approach_bound(m_model_a->box(), m_model_b->box(), m_last_relative, m_relative).closer;
+    if (need + moved > m_broad_reach) {
+      broad_phase(X_WA, X_WB, need + k_broad_extra * reach_margin());
       step_all();
     }
   }

@@ -55,6 +55,7 @@ struct Pair_report {
   // merges (trackers that reached the same pair), trackers seeded for new candidate pairs.
   long transitions = 0, merges = 0, seeds = 0;
   int candidates = 0;  // live candidate primitive pairs of the broad phase
+  long broad_phases = 0;  // broad phases run since the start
   // Totals since the start: candidate pairs without a tracker checked for a basin closer than
   // the tracked minimum (one per pair and step); the checks whose carried lower bound
   // (decayed by the relative motion since it was certified) could not clear them, which ran
@@ -244,6 +245,7 @@ class Body_pair_tracker {
   bool m_have_pose = false;
   Rigid_pose_3 m_last_A, m_last_B;  // poses of the last step
   Rigid_pose_3 m_last_relative;     // X_AB at the last broad phase
+  double m_broad_reach = -HUGE_VAL;  // the reach it was run with
   Rigid_pose_3 m_relative, m_previous_relative;  // X_AB at this step and the one before
   // The current step's inputs, for step_live and transition.
   double m_t = 0.0, m_dt = 1e-3;
