@@ -68,6 +68,8 @@ struct Pair_report {
   // of its set-aside proofs (or the tracking of its carried sides) had run out, and checking
   // those proofs again at the current pose failed.
   long vacated_reach_solves = 0;
+  // Sub-patch nodes those solves made in all (a repeatable measure of their work).
+  long vacated_nodes = 0;
   // Checks past the reach whose set-aside proofs all still held at the current pose: no solve.
   long vacated_proof_checks = 0;
   // Checks whose carried bound ran out but whose last solve's bounded pairs, re-bounded at the
