@@ -665,7 +665,7 @@ bool Body_pair_tracker::tracks(std::uint64_t key) const {
 }
 
 void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                    double reach) {
+                                    double reach, bool apart) {
   const Tracking_model& A = *m_model_a;
   const Tracking_model& B = *m_model_b;
   // Cut each body's tree by the other body's world box (inflated by the reach) taken into its
@@ -722,8 +722,15 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       drop(m_candidates[i++].key);
     } else if (i == m_candidates.size() || m_next_candidates[j].key < m_candidates[i].key) {
       const std::uint64_t key = m_next_candidates[j++].key;
-      // A tracker may have arrived by a transition.
-      if (!tracks(key)) seed_pair(key_a(key), key_b(key), X_WA, X_WB);
+      // A tracker may have arrived by a transition. Apart, a pair check_vacated can certify
+      // needs no tracker until it holds something closer than the tracked minimum: it enters
+      // with its box distance as its bound, and check_vacated seeds it when it does.
+      const int pa = key_a(key), pb = key_b(key);
+      const Primitive& A = m_model_a->primitives()[pa];
+      const Primitive& B = m_model_b->primitives()[pb];
+      const bool checked = apart && A.global_element >= 0 && B.global_element >= 0 &&
+                           !closed_form_pair(A, B);
+      if (!checked && !tracks(key)) seed_pair(pa, pb, X_WA, X_WB);
     } else {
       // The carried bound (with its pose, reach and carried sides) when it is the higher one;
       // the slack in any case.
@@ -795,7 +802,8 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
                                               X_WB, m_options.global, m_workspace);
   ++m_report.audits;
-  broad_phase(X_WA, X_WB, std::max(g.upper_bound, 0.0) + reach_margin());
+  broad_phase(X_WA, X_WB, std::max(g.upper_bound, 0.0) + reach_margin(),
+              g.lower_bound > m_options.contact_tolerance);
   // The certified pair, should the broad phase have missed it.
   if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) {
     // It seeds (or re-seeds) the global pair; duplicates merge after the first step.
@@ -1129,7 +1137,8 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     const double moved =
         approach_bound(m_model_a->box(), m_model_b->box(), m_last_relative, m_relative).closer;
     if (need + moved > m_broad_reach) {
-      broad_phase(X_WA, X_WB, need + k_broad_extra * reach_margin());
+      broad_phase(X_WA, X_WB, need + k_broad_extra * reach_margin(),
+                  best > m_options.contact_tolerance);
       step_all();
     }
   }

@@ -3,9 +3,15 @@
 //   - broad phase: world boxes of the primitives (body-frame hull boxes transformed, never
 //     rebuilt), inflated by the current distance plus a margin, paired by
 //     CGAL::box_intersection_d after a body-frame tree cut, so the cost follows the near
-//     primitives, not the body size; skipped while the relative pose does not change;
-//   - one Extremal_tracker per live candidate pair, seeded by the certified global solver on
-//     that pair (extremal_distance_between) when the pair enters the candidate set;
+//     primitives, not the body size; it reaches a little farther than it must and runs again
+//     only once the relative motion has used that up;
+//   - an Extremal_tracker on each candidate pair that holds the minimum, seeded by the
+//     certified global solver restricted to that pair (extremal_distance_between). Apart, the
+//     other candidate pairs carry a certified lower bound instead (check_vacated), kept up to
+//     date from the proofs of their last restricted solve, and get a tracker when a solve finds
+//     them closer than the tracked minimum (../shared/DESIGN.md section 3 has a tracker per
+//     candidate pair: measured on bench/compare (c), all but one of those trackers followed
+//     pairs that never held the minimum). In contact every entering pair is seeded;
 //   - patch switching: a tracked point that leaves its face across an edge continues on the
 //     other side with mapped parameters (face -> edge -> face across B-rep edges, face -> face
 //     across geometrically matched patch sides, triangle -> mesh edge -> triangle in meshes),
@@ -128,9 +134,9 @@ class Body_pair_tracker {
   ~Body_pair_tracker();
   Body_pair_tracker(Body_pair_tracker&&) noexcept;
 
-  // Converged solve at rest at poses X_WA, X_WB: a tracker on the certified global pair, plus
-  // one per other feature pair whose sampled and Newton-polished minimum can compete. Called by
-  // the first step if not before.
+  // Converged solve at rest at poses X_WA, X_WB: a tracker on the certified global pair, and
+  // the broad phase's candidate pairs (seeded too in contact). Called by the first step if not
+  // before.
   void start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
 
   const Pair_report& step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
@@ -156,7 +162,8 @@ class Body_pair_tracker {
   // Runs the global solver; seeds a tracker on its pair when it beats `tracked` by more than its
   // tolerance. Returns true if it seeded.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
-  void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
+  // `apart`: the tracked minimum is above the contact tolerance (check_vacated runs).
+  void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach, bool apart);
   // Seeds candidate pairs without a tracker that hold a pair closer than `best`.
   void check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
   // A tracker (or closed form) on primitive pair (pa, pb) from parameters at time t; returns
