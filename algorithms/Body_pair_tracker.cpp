@@ -402,14 +402,30 @@ bool Body_pair_tracker::carriers_tracked(const Candidate& C) const {
   return true;
 }
 
-void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                      double best) {
+void Body_pair_tracker::mark_tracked() {
   for (Candidate& c : m_candidates) c.tracked = false;
   for (const Live& L : m_live) {
     if (!L.alive) continue;
     const int i = find_candidate(pair_key(L.pa, L.pb));
     if (i >= 0) m_candidates[i].tracked = true;
   }
+}
+
+bool Body_pair_tracker::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  mark_tracked();
+  bool seeded = false;
+  for (Candidate& C : m_candidates) {
+    if (C.tracked || C.contact_seeded) continue;
+    C.contact_seeded = true;
+    seed_pair(key_a(C.key), key_b(C.key), X_WA, X_WB);
+    seeded = true;
+  }
+  return seeded;
+}
+
+void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                      double best) {
+  mark_tracked();
   const double tol = std::max(m_options.seeding.absolute_tolerance,
                               m_options.seeding.relative_tolerance * best);
   const double need = best - tol;  // a pair certified at or above this holds nothing closer
@@ -709,8 +725,9 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
                            });
   std::sort(m_next_candidates.begin(), m_next_candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.key < y.key; });
-  // Pairs that left: their trackers go. Pairs that entered: seeded. Pairs that stayed keep
-  // their carried bound unless the box distance now is at least as high.
+  // Pairs that left: their trackers go. Pairs that entered: seeded in contact, certified by
+  // check_vacated apart. Pairs that stayed keep their carried bound unless the box distance now
+  // is at least as high.
   std::size_t i = 0, j = 0;
   auto drop = [&](std::uint64_t key) {
     for (std::size_t k = 0; k < m_live.size(); ++k)
@@ -1142,10 +1159,14 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       step_all();
     }
   }
-  // 3. Candidate pairs whose tracker moved on (a transition or a merge) may hold a new basin
-  //    closer than the tracked minimum: the certified solver on the pair, cut off at it, says
-  //    so at little cost when they do not.
-  if (std::isfinite(best) && best > m_options.contact_tolerance) check_vacated(X_WA, X_WB, best);
+  // 3. Candidate pairs without a tracker may hold a new basin closer than the tracked minimum:
+  //    the certified solver on the pair, cut off at it, says so at little cost when they do
+  //    not. In contact (a signed minimum) every candidate pair gets a tracker instead.
+  if (std::isfinite(best) && best > m_options.contact_tolerance) {
+    check_vacated(X_WA, X_WB, best);
+  } else if (std::isfinite(best) && seed_in_contact(X_WA, X_WB)) {
+    step_all();
+  }
   // 4. Lost everything (all witnesses off the bodies): the certified solver re-seeds.
   if (!std::isfinite(best)) {
     if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;

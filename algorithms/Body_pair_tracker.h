@@ -11,7 +11,7 @@
 //     date from the proofs of their last restricted solve, and get a tracker when a solve finds
 //     them closer than the tracked minimum (../shared/DESIGN.md section 3 has a tracker per
 //     candidate pair: measured on bench/compare (c), all but one of those trackers followed
-//     pairs that never held the minimum). In contact every entering pair is seeded;
+//     pairs that never held the minimum). In contact every candidate pair is tracked;
 //   - patch switching: a tracked point that leaves its face across an edge continues on the
 //     other side with mapped parameters (face -> edge -> face across B-rep edges, face -> face
 //     across geometrically matched patch sides, triangle -> mesh edge -> triangle in meshes),
@@ -58,7 +58,8 @@ struct Pair_report {
   int trackers = 0;  // live feature-pair trackers
   int audits = 0, reseeds = 0;  // global audits so far and the trackers they seeded
   // Totals since the start: patch transitions (a tracker handed across an edge or side),
-  // merges (trackers that reached the same pair), trackers seeded for new candidate pairs.
+  // merges (trackers that reached the same pair), trackers seeded on candidate pairs (entering
+  // in contact, found closer than the tracked minimum, or in contact when it began).
   long transitions = 0, merges = 0, seeds = 0;
   int candidates = 0;  // live candidate primitive pairs of the broad phase
   long broad_phases = 0;  // broad phases run since the start
@@ -70,9 +71,9 @@ struct Pair_report {
   // Of those solves, the ones on a face sharing a patch side with a tracked face (a crease:
   // the side declared carried, see Body_pair_tracker::check_vacated).
   long vacated_crease_solves = 0;
-  // Of those solves, the ones whose carried bound still cleared the tracked minimum: the reach
-  // of its set-aside proofs (or the tracking of its carried sides) had run out, and checking
-  // those proofs again at the current pose failed.
+  // Of those solves, the ones whose carried bound still cleared the tracked minimum: the
+  // neighbours across its carried sides were no longer tracked, or the reach of its set-aside
+  // proofs had run out and checking them again at the current pose failed.
   long vacated_reach_solves = 0;
   // Sub-patch nodes those solves made in all (a repeatable measure of their work).
   long vacated_nodes = 0;
@@ -166,6 +167,11 @@ class Body_pair_tracker {
   void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach, bool apart);
   // Seeds candidate pairs without a tracker that hold a pair closer than `best`.
   void check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
+  // In contact (check_vacated does not run): seeds the candidate pairs without a tracker, each
+  // once (those that entered while apart have none). Returns true if it seeded.
+  bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // Sets Candidate::tracked for the candidates a live slot tracks.
+  void mark_tracked();
   // A tracker (or closed form) on primitive pair (pa, pb) from parameters at time t; returns
   // its slot.
   int add_live(int pa, int pb, const Vec4& params);
@@ -217,7 +223,8 @@ class Body_pair_tracker {
     // instead of solving again.
     int proof_begin = 0, proof_count = 0, bound_begin = 0, bound_count = 0;
     Rigid_pose_3 solved_a, solved_at;
-    bool tracked = false;  // scratch of check_vacated: a live slot tracks the pair
+    bool tracked = false;  // scratch of mark_tracked: a live slot tracks the pair
+    bool contact_seeded = false;  // seed_in_contact gave it a tracker
   };
   std::vector<Candidate> m_candidates, m_next_candidates;
   // Index of `key` in m_candidates, or -1.

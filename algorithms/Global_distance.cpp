@@ -1422,11 +1422,18 @@ Distance_result Solver::run() {
       // (While proving a cutoff, convexity bounds around a witness above the floor would
       // settle nothing: the pairs there are set aside or split until they clear the cutoff.)
       if (m_req.newton_polish && !m_scratch.solutions.empty() && !proving()) try_certify(a, b);
+      // (A pair left here for a meeting keeps its bound: the kept proofs cover the domains.)
       if (top.lower <= m_resolution && m_best.distance > m_resolution &&
           m_intersection_attempts < 64 && (a.depth + b.depth) % 3 == 0) {
-        if (try_intersection(a, b)) break;
+        if (try_intersection(a, b)) {
+          keep_bound(a, b, top.lower);
+          break;
+        }
       }
-      if (m_best.distance <= m_resolution) break;
+      if (m_best.distance <= m_resolution) {
+        keep_bound(a, b, top.lower);
+        break;
+      }
     }
     const bool sa = m_side[0].splittable(a, m_resolution);
     const bool sb = m_side[1].splittable(b, m_resolution);

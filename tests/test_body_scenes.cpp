@@ -505,6 +505,40 @@ TEST(BodyScenes, SceneStepperThreadsGiveBitIdenticalReports) {
   EXPECT_THROW(one.set_threads(0), Precondition_violation);
 }
 
+TEST(BodyScenes, InContactTheDeepestPairIsFoundAmongPairsThatEnteredApart) {
+  // Two unit spheres of one body, 0.4 apart, and a unit ball that starts just above the first,
+  // near both (both pairs enter the broad phase while apart, where they get no tracker of their
+  // own), sinks into the first and slides on into the second, which becomes the deeper one
+  // (t = 0.5) while the ball stays in contact all along: the signed minimum must follow it.
+  // Closed form: min over the two spheres of |c_ball - c_i| - 2.
+  Body twins;
+  twins.name = "twins";
+  const Vec3 c1(-1.2, 0.0, 0.0), c2(1.2, 0.0, 0.0);
+  twins.faces.push_back({transformed(make_sphere(1.0), Rigid_pose_3(Mat3::Identity(), c1)), "left"});
+  twins.faces.push_back({transformed(make_sphere(1.0), Rigid_pose_3(Mat3::Identity(), c2)), "right"});
+  const Body ball = make_sphere_body(1.0);
+  Body_pair_tracker tracker(twins, ball);
+  const double dt = 1e-3;
+  double worst = 0.0;
+  int in_contact = 0;
+  Pair_report r;
+  for (int i = 0; i <= 1000; ++i) {
+    const double t = i * dt;
+    const Vec3 c(-0.6 + 1.2 * t, 0.0, 2.0 - t);
+    r = tracker.step(t, Rigid_pose_3(), Twist_3{}, pose_of(c), twist(Vec3(1.2, 0.0, -1.0), Vec3::Zero()), dt);
+    const double exact = std::min((c - c1).norm(), (c - c2).norm()) - 2.0;
+    ASSERT_TRUE(std::isfinite(r.distance)) << "step " << i;
+    worst = std::max(worst, std::abs(r.distance - exact));
+    ASSERT_NEAR(r.distance, exact, 1e-9) << "step " << i << " (t = " << t << "): face "
+                                         << r.feature_a << ", " << r.trackers << " trackers";
+    if (r.distance < 0.0) ++in_contact;
+  }
+  std::printf("[ case     ] two spheres / ball: worst error %.2e, %d of 1001 steps penetrating, "
+              "%ld seeds\n", worst, in_contact, r.seeds);
+  EXPECT_GT(in_contact, 800);  // in contact from t = 0.15 to the end
+  EXPECT_EQ(r.feature_a, 1);   // the second sphere holds the minimum at the end
+}
+
 TEST(BodyScenes, SteadyTrackingAllocatesNothing) {
   // A sphere circling over the 16-patch sheet: after one lap (candidate pairs seeded, buffers
   // grown), the second lap steps, hands over and prunes without touching the heap.
