@@ -157,65 +157,16 @@ Body shape_body(const json& j, const std::string& path, const std::string& name,
            "unknown shape type '" + type + "' (point, sphere, ellipsoid, torus, cylinder, plane)");
 }
 
-// A pose table: an optional header `t,x,y,z,qw,qx,qy,qz`, then one row of 8 numbers per pose.
-// Errors name the scene file, the JSON path, the table file and its line.
+// A pose table file (parse_pose_table); errors name the scene file and the JSON path too.
 std::vector<Keyframe> read_table(const std::string& file, const std::string& path,
                                  const Scene_error& err) {
   std::ifstream in(file);
   if (!in) err.fail(path, "cannot open pose table '" + file + "'");
-  auto fail_line = [&](int line_no, const std::string& reason) {
-    err.fail(path, file + ":" + std::to_string(line_no) + ": " + reason);
-  };
-  auto trim = [](std::string text) {
-    const auto b = text.find_first_not_of(" \t\r");
-    const auto e = text.find_last_not_of(" \t\r");
-    return b == std::string::npos ? std::string() : text.substr(b, e - b + 1);
-  };
-  std::vector<Keyframe> frames;
-  std::string line;
-  int line_no = 0;
-  bool first_content = true;
-  while (std::getline(in, line)) {
-    ++line_no;
-    line = trim(line);
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
-    if (!line.empty() && line.back() == ',') cells.push_back("");
-    const bool header = first_content && !cells.empty() && !cells[0].empty() &&
-                        std::isalpha(static_cast<unsigned char>(cells[0][0]));
-    first_content = false;
-    if (header) {
-      static const char* const names[] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz"};
-      bool ok = cells.size() == 8;
-      for (std::size_t i = 0; ok && i < 8; ++i) ok = cells[i] == names[i];
-      if (!ok) fail_line(line_no, "header '" + line + "': expected t,x,y,z,qw,qx,qy,qz");
-      continue;
-    }
-    if (cells.size() != 8)
-      fail_line(line_no, "expected 8 columns t,x,y,z,qw,qx,qy,qz, got " +
-                             std::to_string(cells.size()));
-    double v[8];
-    for (int i = 0; i < 8; ++i) {
-      const std::string& c = cells[static_cast<std::size_t>(i)];
-      char* end = nullptr;
-      v[i] = std::strtod(c.c_str(), &end);
-      if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v[i]))
-        fail_line(line_no, "column " + std::to_string(i + 1) + ": '" + c +
-                               "' is not a finite number");
-    }
-    if (!frames.empty() && !(v[0] > frames.back().t))
-      fail_line(line_no, "times must increase");
-    const double n = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
-    if (std::abs(n - 1.0) > 1e-6)
-      fail_line(line_no, "not a unit quaternion (norm " + std::to_string(n) + ")");
-    frames.push_back({v[0], Rigid_pose_3::from_quaternion(Vec3(v[1], v[2], v[3]), v[4], v[5],
-                                                          v[6], v[7])});
+  try {
+    return parse_pose_table(in, file);
+  } catch (const Invalid_input& e) {
+    err.fail(path, e.what());
   }
-  if (frames.empty()) err.fail(path, "pose table '" + file + "' has no rows");
-  return frames;
 }
 
 Motion motion(const json& j, const std::string& path, const Rigid_pose_3& initial, double t0,
@@ -321,6 +272,62 @@ int Scene::step_count() const {
 }
 
 double Scene::time_of(int i) const { return start + i * step; }
+
+std::vector<Keyframe> parse_pose_table(std::istream& in, const std::string& name) {
+  auto fail_line = [&](int line_no, const std::string& reason) {
+    throw Invalid_input(name + ":" + std::to_string(line_no) + ": " + reason);
+  };
+  auto trim = [](std::string text) {
+    const auto b = text.find_first_not_of(" \t\r");
+    const auto e = text.find_last_not_of(" \t\r");
+    return b == std::string::npos ? std::string() : text.substr(b, e - b + 1);
+  };
+  std::vector<Keyframe> frames;
+  std::string line;
+  int line_no = 0;
+  bool first_content = true;
+  while (std::getline(in, line)) {
+    ++line_no;
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
+    if (!line.empty() && line.back() == ',') cells.push_back("");
+    const bool header = first_content && !cells.empty() && !cells[0].empty() &&
+                        std::isalpha(static_cast<unsigned char>(cells[0][0]));
+    first_content = false;
+    if (header) {
+      static const char* const names[] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz"};
+      bool ok = cells.size() == 8;
+      for (std::size_t i = 0; ok && i < 8; ++i) ok = cells[i] == names[i];
+      if (!ok) fail_line(line_no, "header '" + line + "': expected t,x,y,z,qw,qx,qy,qz");
+      continue;
+    }
+    if (cells.size() != 8)
+      fail_line(line_no, "expected 8 columns t,x,y,z,qw,qx,qy,qz, got " +
+                             std::to_string(cells.size()));
+    double v[8];
+    for (int i = 0; i < 8; ++i) {
+      const std::string& c = cells[static_cast<std::size_t>(i)];
+      char* end = nullptr;
+      v[i] = std::strtod(c.c_str(), &end);
+      if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v[i]))
+        fail_line(line_no, "column " + std::to_string(i + 1) + ": '" + c +
+                               "' is not a finite number");
+    }
+    if (!frames.empty() && !(v[0] > frames.back().t))
+      fail_line(line_no, "times must increase");
+    const double n = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+    if (std::abs(n - 1.0) > 1e-6)
+      fail_line(line_no, "not a unit quaternion (norm " + std::to_string(n) + ")");
+    frames.push_back({v[0], Rigid_pose_3::from_quaternion(Vec3(v[1], v[2], v[3]), v[4], v[5],
+                                                          v[6], v[7])});
+  }
+  if (frames.empty()) throw Invalid_input(name + ": pose table has no rows");
+  return frames;
+}
 
 Scene parse_scene(const std::string& text, const std::string& path, const File_loader& load_file) {
   const Scene_error err(path);

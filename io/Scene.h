@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <utility>
@@ -53,6 +54,12 @@ using File_loader = std::function<std::vector<Body>(const std::string& path,
 Scene read_scene(const std::string& path, const File_loader& load_file = {});
 Scene parse_scene(const std::string& json_text, const std::string& path,
                   const File_loader& load_file = {});
+
+// The poses of a pose table (a scene's `"motion": {"type": "table", "file": ...}`): an optional
+// header `t,x,y,z,qw,qx,qy,qz`, then one row of 8 finite numbers per pose, times increasing,
+// unit quaternions; blank lines and lines starting with '#' are skipped. Throws Invalid_input
+// "NAME:LINE: reason" (NAME: the table's file name) on anything else, or when it has no rows.
+std::vector<Keyframe> parse_pose_table(std::istream& in, const std::string& name);
 
 // Length of one unit in millimetres ("mm", "cm", "m", "in", "ft", "um"); throws otherwise.
 double unit_in_mm(const std::string& unit);

@@ -4,14 +4,14 @@
 # seeded with tests/fuzz/corpus_<name> and guided by tests/fuzz/<name>.dict. New inputs go to
 # build-fuzz/corpus/<name>, crashing ones to build-fuzz/artifacts/; a target that finds a crash
 # stops the script with its exit status. Usage: scripts/run-fuzzers.sh [SECONDS] [TARGET...]
-# (TARGET: obj_freeform, scene; default both).
+# (TARGET: obj_freeform, scene, pose_table; default all).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build-fuzz"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj_freeform scene)
+[ ${#targets[@]} -gt 0 ] || targets=(obj_freeform scene pose_table)
 "$root/scripts/setup.sh" --fuzz
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
@@ -26,7 +26,8 @@ for target in "${targets[@]}"; do
   case "$target" in
     obj_freeform) seeds=obj; dict=obj ;;
     scene) seeds=scene; dict=scene ;;
-    *) echo "run-fuzzers: unknown target '$target' (obj_freeform, scene)" >&2; exit 2 ;;
+    pose_table) seeds=pose_table; dict=pose_table ;;
+    *) echo "run-fuzzers: unknown target '$target' (obj_freeform, scene, pose_table)" >&2; exit 2 ;;
   esac
   mkdir -p "$build/corpus/$target" "$build/artifacts"
   echo "run-fuzzers: fuzz_$target for ${seconds} s"

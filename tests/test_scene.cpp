@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "io/Scene.h"
 #include "kernel/Error.h"
@@ -33,6 +34,34 @@ void expect_error(const std::string& json, const std::string& expected) {
 
 const char* k_sphere = R"({"name": "A", "shape": {"type": "sphere", "radius": 1}})";
 const char* k_other = R"({"name": "other", "shape": {"type": "sphere", "radius": 1}})";
+
+TEST(Scene, PoseTableRowsAndErrorsNamingTheLine) {
+  // Header, comment and blank lines skipped; poses as written (unit quaternions).
+  std::istringstream good("t,x,y,z,qw,qx,qy,qz\n# a comment\n\n0, 1,2,3, 1,0,0,0\n"
+                          "0.5,4,5,6,0,0,0,1\r\n");
+  const std::vector<Keyframe> frames = io::parse_pose_table(good, "poses.csv");
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[1].t, 0.5);
+  EXPECT_EQ(frames[1].pose.translation(), Vec3(4, 5, 6));
+  EXPECT_NEAR((frames[1].pose.rotation() - Mat3(Eigen::AngleAxisd(M_PI, Vec3::UnitZ()))).norm(), 0.0,
+              1e-15);
+  // Each bad table names the file and the line.
+  auto expect_error = [](const std::string& text, const std::string& what) {
+    std::istringstream in(text);
+    try {
+      (void)io::parse_pose_table(in, "poses.csv");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Invalid_input& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_error("", "poses.csv: pose table has no rows");
+  expect_error("t,x,y,z,qw,qx,qy\n", "poses.csv:1: header");
+  expect_error("0,0,0,0,1,0,0,0\n0,0,0,0,1,0,0,0\n", "poses.csv:2: times must increase");
+  expect_error("0,0,0,nan,1,0,0,0\n", "poses.csv:1: column 4: 'nan' is not a finite number");
+  expect_error("0,0,0,0,1,0,0,0,\n", "poses.csv:1: expected 8 columns");
+  expect_error("\n\n0,0,0,0,0.5,0,0,0\n", "poses.csv:3: not a unit quaternion");
+}
 
 TEST(Scene, TwistMotionReproducesItsPoses) {
   const auto scene = io::parse_scene(with_bodies(std::string(k_sphere) + R"(,
