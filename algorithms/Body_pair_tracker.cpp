@@ -126,10 +126,13 @@ constexpr double k_proving_steps = 2.0;
 // the tracked minimum, and sets sub-patch pairs aside only when their gradient proof lasts as
 // much relative motion: higher, the sub-patch pairs straddling the cutoff (where the gradient
 // is small) cost more; lower, the solves come more often. Measured on scenario (b) of
-// bench/compare (callgrind): a quarter beats an eighth and a half at 1 kHz, and at 10 kHz a
-// tenth of it (4 steps' motion) does less well. Its node budget: spent, the solve still leaves
-// the bound it reached, or falls back to the usual solve.
-constexpr double k_crease_fraction = 0.25;
+// bench/compare (sub-patch nodes of the restricted solves, corrections rows), since the kept
+// proofs re-check bounds: an eighth 179k / 43.9k / 18.1k nodes at 10 kHz / 1 kHz / 100 Hz,
+// a quarter 243k / 49.4k / 17.3k, a sixteenth 152k / 44.7k / 18.9k, a half 372k / 62.8k.
+// (Before the kept proofs, callgrind had a quarter beat an eighth at 1 kHz.) Its node budget
+// (100: more solves fall back, 497k nodes at 10 kHz): spent, the solve still leaves the bound
+// it reached, or falls back to the usual solve.
+constexpr double k_crease_fraction = 0.125;
 constexpr int k_crease_nodes = 200;
 // A tracked pair carries a crease only when its tracker's normalised errors (sines of the
 // angles off stationarity) along its free parameters are below this: the distance it is above
