@@ -419,7 +419,10 @@ double bound_after_motion(const Bound_proof& p, const Rigid_pose_3& motion, doub
   // can have moved along it; the balls' distance now; the boxes'.
   const Vec3 shift = c - p.b_centre;
   const double decayed = p.lower - (shift.norm() + spin * p.b_radius);
-  const double along = p.gap + p.axis.dot(shift) - spin * p.b_radius;
+  // Along the axis a point p of B's ball moves by axis . (shift + (R - I)(p - c)), and
+  // axis . (R - I) v = ((R^T - I) axis) . v: a turn about the axis costs nothing.
+  const Vec3 tilt = motion.rotation().transpose() * p.axis - p.axis;
+  const double along = p.gap + p.axis.dot(shift) - tilt.norm() * p.b_radius;
   const double balls = (p.a_centre - c).norm() - p.a_radius - p.b_radius;
   const Vec3 moved_c = motion.apply_point(bc);
   const Vec3 moved_h = motion.rotation().cwiseAbs() * bh;
