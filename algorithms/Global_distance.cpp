@@ -744,17 +744,12 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff) {
     L = std::max({L, b.axis_lo - a.axis_hi, a.axis_lo - b.axis_hi});
     if (L >= cutoff) return L;
   }
-  Vec3 e = b.centre - a.centre;
-  double len = e.norm();
-  // From the centroid axis, a few support-point steps towards the hulls' separating axis (the
-  // axis through A's highest and B's lowest control point along the current one), as in GJK.
-  for (int it = 0; it < 2 && len > 0.0; ++it) {
-    int ia, ib;
-    L = std::max(L, internal::axis_gap_support(ca, a.count(), cb, b.count(), e / len, ia, ib));
-    if (L >= cutoff) return L;
-    e = cb[ib] - ca[ia];
-    len = e.norm();
-  }
+  // From the centroid axis, a few support-point steps towards the hulls' separating axis.
+  internal::separating_axis_steps(ca, a.count(), cb, b.count(), b.centre - a.centre, 2,
+                                  [&](const Vec3&, const internal::Axis_extents& x) {
+                                    L = std::max(L, x.gap());
+                                    return L >= cutoff;
+                                  });
   return L;
 }
 
@@ -1202,23 +1197,16 @@ void Solver::keep_bound(const Live_node& a, const Live_node& b, double L) {
     p.b_lo[j] = b.lo[j];
     p.b_hi[j] = b.hi[j];
   }
-  // A separating axis of the two control nets: from the centres' direction, a support-point
-  // step towards the hulls' (as lower_bound takes it).
-  const Vec3* ca = m_side[0].cart(a);
-  const Vec3* cb = m_side[1].cart(b);
-  Vec3 e = b.centre - a.centre;
-  for (int it = 0; it < 2; ++it) {
-    const double len = e.norm();
-    if (!(len > 0.0)) break;
-    const Vec3 n = e / len;
-    int ia = 0, ib = 0;
-    const double gap = internal::axis_separation(ca, a.count(), cb, b.count(), n, ia, ib);
-    if (gap > p.gap) {
-      p.gap = gap;
-      p.axis = n;
-    }
-    e = cb[ib] - ca[ia];
-  }
+  // A separating axis of the two control nets, found as lower_bound finds its own.
+  internal::separating_axis_steps(m_side[0].cart(a), a.count(), m_side[1].cart(b), b.count(),
+                                  b.centre - a.centre, 2,
+                                  [&](const Vec3& n, const internal::Axis_extents& x) {
+                                    if (x.separation() > p.gap) {
+                                      p.gap = x.separation();
+                                      p.axis = n;
+                                    }
+                                    return false;
+                                  });
 }
 
 // Gauss-Newton on f(x_A) = h(x_B) from the centres of the two nodes: a common point ends the

@@ -72,69 +72,53 @@ inline double box_distance(const Vec3& amin, const Vec3& amax, const Vec3& bmin,
   return std::sqrt(s);
 }
 
-// Gap between the projections of two point sets on the unit axis n: a lower bound on the
-// distance between their convex hulls (0 if the projections overlap).
-inline double axis_gap(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n) {
-  double amin = HUGE_VAL, amax = -HUGE_VAL, bmin = HUGE_VAL, bmax = -HUGE_VAL;
+// The projections of two point sets on the unit axis n: their extents, and the points that
+// attain A's largest and B's smallest projection (the support points along n, from which a
+// better axis can be taken).
+struct Axis_extents {
+  double a_min = HUGE_VAL, a_max = -HUGE_VAL, b_min = HUGE_VAL, b_max = -HUGE_VAL;
+  int a_top = 0, b_bottom = 0;
+  // Gap between the projections: a lower bound on the distance between the convex hulls (0 if
+  // the projections overlap).
+  double gap() const { return std::max({0.0, b_min - a_max, a_min - b_max}); }
+  // The gap by which B lies beyond A along n (negative if they overlap along it).
+  double separation() const { return b_min - a_max; }
+};
+inline Axis_extents axis_extents(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n) {
+  Axis_extents x;
   for (int k = 0; k < na; ++k) {
     const double s = n.dot(a[k]);
-    amin = std::min(amin, s);
-    amax = std::max(amax, s);
+    x.a_min = std::min(x.a_min, s);
+    if (s > x.a_max) {
+      x.a_max = s;
+      x.a_top = k;
+    }
   }
   for (int k = 0; k < nb; ++k) {
     const double s = n.dot(b[k]);
-    bmin = std::min(bmin, s);
-    bmax = std::max(bmax, s);
+    x.b_max = std::max(x.b_max, s);
+    if (s < x.b_min) {
+      x.b_min = s;
+      x.b_bottom = k;
+    }
   }
-  return std::max({0.0, bmin - amax, amin - bmax});
+  return x;
 }
 
-// B's lowest minus A's highest point along n (the gap by which B lies beyond A along n, negative
-// if they overlap along it), and the points that attain them.
-inline double axis_separation(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n,
-                              int& a_top, int& b_bottom) {
-  double amax = -HUGE_VAL, bmin = HUGE_VAL;
-  a_top = b_bottom = 0;
-  for (int k = 0; k < na; ++k) {
-    const double s = n.dot(a[k]);
-    if (s > amax) {
-      amax = s;
-      a_top = k;
-    }
+// From the direction e (B's side of A), `steps` support-point steps towards the hulls'
+// separating axis (the axis through A's highest and B's lowest point along the current one),
+// as in GJK: tried(n, extents) for each unit axis n taken, until it returns true.
+template <class Tried>
+void separating_axis_steps(const Vec3* a, int na, const Vec3* b, int nb, Vec3 e, int steps,
+                           Tried&& tried) {
+  for (int it = 0; it < steps; ++it) {
+    const double len = e.norm();
+    if (!(len > 0.0)) return;
+    const Vec3 n = e / len;
+    const Axis_extents x = axis_extents(a, na, b, nb, n);
+    if (tried(n, x)) return;
+    e = b[x.b_bottom] - a[x.a_top];
   }
-  for (int k = 0; k < nb; ++k) {
-    const double s = n.dot(b[k]);
-    if (s < bmin) {
-      bmin = s;
-      b_bottom = k;
-    }
-  }
-  return bmin - amax;
-}
-
-// Like axis_gap, and also the points that attain A's largest and B's smallest projection (the
-// support points along n), from which a better axis can be taken.
-inline double axis_gap_support(const Vec3* a, int na, const Vec3* b, int nb, const Vec3& n,
-                               int& a_top, int& b_bottom) {
-  double amin = HUGE_VAL, amax = -HUGE_VAL, bmin = HUGE_VAL, bmax = -HUGE_VAL;
-  a_top = b_bottom = 0;
-  for (int k = 0; k < na; ++k) {
-    const double s = n.dot(a[k]);
-    amin = std::min(amin, s);
-    if (s > amax) {
-      amax = s;
-      a_top = k;
-    }
-  }
-  for (int k = 0; k < nb; ++k) {
-    const double s = n.dot(b[k]);
-    bmax = std::max(bmax, s);
-    if (s < bmin) {
-      bmin = s;
-      b_bottom = k;
-    }
-  }
-  return std::max({0.0, bmin - amax, amin - bmax});
 }
 
 // Extracts the piece of a Bezier net over the local parameter box [s0, s1] x [t0, t1] (of
