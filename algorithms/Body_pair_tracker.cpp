@@ -405,6 +405,12 @@ bool Body_pair_tracker::carriers_tracked(const Candidate& C) const {
   return true;
 }
 
+bool Body_pair_tracker::certifiable(int pa, int pb) const {
+  const Primitive& A = m_model_a->primitives()[pa];
+  const Primitive& B = m_model_b->primitives()[pb];
+  return A.global_element >= 0 && B.global_element >= 0 && !closed_form_pair(A, B);
+}
+
 void Body_pair_tracker::mark_tracked() {
   for (Candidate& c : m_candidates) c.tracked = false;
   for (const Live& L : m_live) {
@@ -436,9 +442,9 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
   for (Candidate& C : m_candidates) {
     if (C.tracked) continue;
     const int pa = key_a(C.key), pb = key_b(C.key);
+    if (!certifiable(pa, pb)) continue;
     const Primitive& A = m_model_a->primitives()[pa];
     const Primitive& B = m_model_b->primitives()[pb];
-    if (A.global_element < 0 || B.global_element < 0 || closed_form_pair(A, B)) continue;
     ++m_report.vacated_checks;
     // The bound carried from an earlier step, less how much closer the pair can have come;
     // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
@@ -529,40 +535,36 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     unsigned carried_a = carried_sides(0, pa, pb, tol);
     unsigned carried_b = carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;
+    // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
+    // edge) would likewise be solved to its witness there every time: it is proved against a
+    // cutoff too (floor `need`), its pairs at the edge set aside by their gradient. Untrimmed
+    // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
+    const bool trimmed = m_model_a->hierarchy().elements()[A.global_element].trimmed ||
+                         m_model_b->hierarchy().elements()[B.global_element].trimmed;
     Distance_result g;
-    if (carrying) {
-      Distance_request crease = request;
-      crease.carried_sides = {carried_a, carried_b};
-      crease.cutoff_floor = need;
-      // Cutoff and gradient reach alike (the motion either proof outlasts).
-      const double crease_slack = step_motion >= cap ? 4.0 * tol
-                                                     : std::max(4.0 * tol, k_crease_fraction * cap);
-      crease.cutoff = need + crease_slack;
-      crease.carried_min_reach = crease_slack;
-      crease.max_nodes = k_crease_nodes;
-      g = solve(crease);
-      ++m_report.vacated_crease_solves;
+    if (carrying || trimmed) {
+      Distance_request proving = request;
+      proving.cutoff_floor = need;
+      proving.max_nodes = k_crease_nodes;
+      if (carrying) {
+        proving.carried_sides = {carried_a, carried_b};
+        // Cutoff and gradient reach alike (the motion either proof outlasts).
+        const double crease_slack =
+            step_motion >= cap ? 4.0 * tol : std::max(4.0 * tol, k_crease_fraction * cap);
+        proving.cutoff = need + crease_slack;
+        proving.carried_min_reach = crease_slack;
+        ++m_report.vacated_crease_solves;
+      } else {
+        proving.cutoff = need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion));
+        proving.carried_min_reach = std::min(proving.cutoff - need, k_reach_steps * step_motion);
+      }
+      g = solve(proving);
       // Not settled within its budget (a stationary point of the pair between the tracked
       // minimum and the cutoff): the usual solve, to the witness.
       if (!(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
         g = solve(request);
         carried_a = carried_b = 0u;
       }
-    } else if (m_model_a->hierarchy().elements()[A.global_element].trimmed ||
-               m_model_b->hierarchy().elements()[B.global_element].trimmed) {
-      // A pair tied with the tracked minimum on a trim edge (the tracked pair holds that edge)
-      // would be solved to its witness there, at the seeding tolerance, every time: proved
-      // against the cutoff instead (floor `need`, as the crease solve), its pairs at the edge
-      // set aside by their gradient and the others bounded at the cutoff. Within a budget; a
-      // stationary point between the floor and the cutoff sends it to the usual solve.
-      // (Untrimmed faces have no such ties and nothing to set aside: the usual solve.)
-      Distance_request proving = request;
-      proving.cutoff_floor = need;
-      proving.max_nodes = k_crease_nodes;
-      proving.cutoff = need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion));
-      proving.carried_min_reach = std::min(proving.cutoff - need, k_reach_steps * step_motion);
-      g = solve(proving);
-      if (!(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) g = solve(request);
     } else {
       g = solve(request);
     }
@@ -684,7 +686,7 @@ bool Body_pair_tracker::tracks(std::uint64_t key) const {
 }
 
 void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                    double reach, bool apart) {
+                                    double reach) {
   const Tracking_model& A = *m_model_a;
   const Tracking_model& B = *m_model_b;
   // Cut each body's tree by the other body's world box (inflated by the reach) taken into its
@@ -728,9 +730,10 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
                            });
   std::sort(m_next_candidates.begin(), m_next_candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.key < y.key; });
-  // Pairs that left: their trackers go. Pairs that entered: seeded in contact, certified by
-  // check_vacated apart. Pairs that stayed keep their carried bound unless the box distance now
-  // is at least as high.
+  // Pairs that left: their trackers go. Pairs that entered: their box distance is their bound
+  // (check_vacated certifies them apart, seed_in_contact seeds them in contact), but pairs
+  // those cannot certify are seeded now. Pairs that stayed keep their carried bound unless the
+  // box distance now is at least as high.
   std::size_t i = 0, j = 0;
   auto drop = [&](std::uint64_t key) {
     for (std::size_t k = 0; k < m_live.size(); ++k)
@@ -742,15 +745,9 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       drop(m_candidates[i++].key);
     } else if (i == m_candidates.size() || m_next_candidates[j].key < m_candidates[i].key) {
       const std::uint64_t key = m_next_candidates[j++].key;
-      // A tracker may have arrived by a transition. Apart, a pair check_vacated can certify
-      // needs no tracker until it holds something closer than the tracked minimum: it enters
-      // with its box distance as its bound, and check_vacated seeds it when it does.
+      // (A tracker may have arrived by a transition.)
       const int pa = key_a(key), pb = key_b(key);
-      const Primitive& A = m_model_a->primitives()[pa];
-      const Primitive& B = m_model_b->primitives()[pb];
-      const bool checked = apart && A.global_element >= 0 && B.global_element >= 0 &&
-                           !closed_form_pair(A, B);
-      if (!checked && !tracks(key)) seed_pair(pa, pb, X_WA, X_WB);
+      if (!certifiable(pa, pb) && !tracks(key)) seed_pair(pa, pb, X_WA, X_WB);
     } else {
       // The carried bound (with its pose, reach and carried sides) when it is the higher one;
       // the slack in any case.
@@ -822,8 +819,7 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
                                               X_WB, m_options.global, m_workspace);
   ++m_report.audits;
-  broad_phase(X_WA, X_WB, std::max(g.upper_bound, 0.0) + reach_margin(),
-              g.lower_bound > m_options.contact_tolerance);
+  broad_phase(X_WA, X_WB, std::max(g.upper_bound, 0.0) + reach_margin());
   // The certified pair, should the broad phase have missed it.
   if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) {
     // It seeds (or re-seeds) the global pair; duplicates merge after the first step.
@@ -1148,30 +1144,27 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   };
   step_all();
   // 2. Broad phase where the candidate set may miss a pair within |best| plus the margin (|best|:
-  //    inside, the tracked pair's own primitives lie |best| apart): new candidate pairs seeded,
-  //    far ones gone. A set built with reach R holds every pair that was within R then, so
-  //    every pair within R less the relative motion since (k_broad_extra).
-  const double length = std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
-  if (std::isfinite(best) && !near_pose(m_relative, m_last_relative, length)) {
-    const double need = std::abs(best) + reach_margin();
-    const double moved =
-        approach_bound(m_model_a->box(), m_model_b->box(), m_last_relative, m_relative).closer;
-    if (need + moved > m_broad_reach) {
-      broad_phase(X_WA, X_WB, need + k_broad_extra * reach_margin(),
-                  best > m_options.contact_tolerance);
-      step_all();
-    }
-  }
+  //    inside, the tracked pair's own primitives lie |best| apart): entering pairs get a bound,
+  //    far ones go. A set built with reach R holds every pair that was within R then, so every
+  //    pair within R less the relative motion since (k_broad_extra).
   // 3. Candidate pairs without a tracker may hold a new basin closer than the tracked minimum:
   //    the certified solver on the pair, cut off at it, says so at little cost when they do
   //    not. In contact (a signed minimum) every candidate pair gets a tracker instead.
-  if (std::isfinite(best) && best > m_options.contact_tolerance) {
-    check_vacated(X_WA, X_WB, best);
-  } else if (std::isfinite(best) && seed_in_contact(X_WA, X_WB)) {
-    step_all();
-  }
   // 4. Lost everything (all witnesses off the bodies): the certified solver re-seeds.
-  if (!std::isfinite(best)) {
+  if (std::isfinite(best)) {
+    const double length = std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+    const double reach = std::abs(best) + reach_margin();
+    if (!near_pose(m_relative, m_last_relative, length) &&
+        reach + approach_bound(m_model_a->box(), m_model_b->box(), m_last_relative, m_relative)
+                    .closer > m_broad_reach) {
+      broad_phase(X_WA, X_WB, reach + k_broad_extra * reach_margin());
+      step_all();
+    }
+    if (best > m_options.contact_tolerance)
+      check_vacated(X_WA, X_WB, best);
+    else if (seed_in_contact(X_WA, X_WB))
+      step_all();
+  } else {
     if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
     step_all();
   }

@@ -163,12 +163,14 @@ class Body_pair_tracker {
   // Runs the global solver; seeds a tracker on its pair when it beats `tracked` by more than its
   // tolerance. Returns true if it seeded.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
-  // `apart`: the tracked minimum is above the contact tolerance (check_vacated runs).
-  void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach, bool apart);
+  void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
+  // Whether check_vacated can certify primitive pair (pa, pb) without a tracker: both have
+  // global elements and the pair is not a closed form (those always get a tracker).
+  bool certifiable(int pa, int pb) const;
   // Seeds candidate pairs without a tracker that hold a pair closer than `best`.
   void check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
   // In contact (check_vacated does not run): seeds the candidate pairs without a tracker, each
-  // once (those that entered while apart have none). Returns true if it seeded.
+  // once (entering pairs get none from the broad phase). Returns true if it seeded.
   bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Sets Candidate::tracked for the candidates a live slot tracks.
   void mark_tracked();
