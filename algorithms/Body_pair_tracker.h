@@ -136,8 +136,8 @@ class Body_pair_tracker {
   Body_pair_tracker(Body_pair_tracker&&) noexcept;
 
   // Converged solve at rest at poses X_WA, X_WB: a tracker on the certified global pair, and
-  // the broad phase's candidate pairs (seeded too in contact). Called by the first step if not
-  // before.
+  // the broad phase's candidate pairs (in contact, the first step seeds them). Called by the
+  // first step if not before.
   void start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
 
   const Pair_report& step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
