@@ -484,7 +484,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       C.reach = {HUGE_VAL, HUGE_VAL};
       C.reach_at = m_relative;
       C.carried = {0u, 0u};
-      C.proof_count = C.bound_count = 0;
+      C.proof_count = C.bound_count = C.solve_count = 0;
       continue;
     }
     // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
@@ -532,6 +532,18 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       m_report.vacated_nodes += result.nodes_created;
       return result;
     };
+    // Where the pair's kept proofs still clear the cutoff at this pose, only the sub-patch
+    // pairs whose proofs fail are solved again: the kept ones cover the rest of the domain.
+    double kept_lower = HUGE_VAL;
+    std::array<double, 2> kept_reach{{HUGE_VAL, HUGE_VAL}};
+    auto solve_failing = [&](const Distance_request& r) {
+      Distance_result result = extremal_distance_between(
+          m_model_a->hierarchy(), X_WA, A.global_element, m_model_b->hierarchy(), X_WB,
+          B.global_element, m_restarts, r, m_workspace);
+      m_report.vacated_nodes += result.nodes_created;
+      ++m_report.vacated_partial_solves;
+      return result;
+    };
     unsigned carried_a = carried_sides(0, pa, pb, tol);
     unsigned carried_b = carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;
@@ -541,41 +553,45 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
     const bool trimmed = m_model_a->hierarchy().elements()[A.global_element].trimmed ||
                          m_model_b->hierarchy().elements()[B.global_element].trimmed;
-    Distance_result g;
+    Distance_request first = request;
     if (carrying || trimmed) {
-      Distance_request proving = request;
-      proving.cutoff_floor = need;
-      proving.max_nodes = k_crease_nodes;
+      first.cutoff_floor = need;
+      first.max_nodes = k_crease_nodes;
       if (carrying) {
-        proving.carried_sides = {carried_a, carried_b};
+        first.carried_sides = {carried_a, carried_b};
         // Cutoff and gradient reach alike (the motion either proof outlasts).
         const double crease_slack =
             step_motion >= cap ? 4.0 * tol : std::max(4.0 * tol, k_crease_fraction * cap);
-        proving.cutoff = need + crease_slack;
-        proving.carried_min_reach = crease_slack;
+        first.cutoff = need + crease_slack;
+        first.carried_min_reach = crease_slack;
         ++m_report.vacated_crease_solves;
       } else {
-        proving.cutoff = need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion));
-        proving.carried_min_reach = std::min(proving.cutoff - need, k_reach_steps * step_motion);
+        first.cutoff = need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion));
+        first.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
       }
-      g = solve(proving);
-      // Not settled within its budget (a stationary point of the pair between the tracked
-      // minimum and the cutoff): the usual solve, to the witness.
-      if (!(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
-        g = solve(request);
-        carried_a = carried_b = 0u;
-      }
-    } else {
-      g = solve(request);
     }
-    C.lower = g.uncarried_lower_bound;
+    // (Proofs kept for other carried sides rest on other trackers: not kept.)
+    const bool partial = C.carried[0] == carried_a && C.carried[1] == carried_b &&
+                         plan_partial_solve(C, A.global_element, B.global_element, first.cutoff,
+                                            first.carried_min_reach, kept_lower, kept_reach);
+    Distance_result g = partial ? solve_failing(first) : solve(first);
+    bool kept = partial;
+    // A proving solve not settled within its budget (a stationary point of the pair between
+    // the tracked minimum and the cutoff): the usual solve, to the witness. (Kept proofs are
+    // at or above the cutoff.)
+    if ((carrying || trimmed) && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
+      g = solve(request);
+      carried_a = carried_b = 0u;
+      kept = false;
+    }
+    C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
     C.at = m_relative;
     C.reach = g.carried_reach;
+    if (kept)
+      for (int side = 0; side < 2; ++side) C.reach[side] = std::min(C.reach[side], kept_reach[side]);
     C.reach_at = m_relative;
     C.carried = {carried_a, carried_b};
-    C.solved_a = X_WA;
-    C.solved_at = m_relative;
-    keep_proofs(C);
+    keep_proofs(C, Solve_pose{X_WA, m_relative}, kept);
     C.slack = g.element_a < 0 ? slack : 0.0;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
     Vec4 params = Vec4::Zero();
@@ -590,24 +606,36 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
   if (seeded) step_pending();
 }
 
-Rigid_pose_3 Body_pair_tracker::motion_since_solve(const Candidate& C, double& length) const {
-  // X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
-  length = C.solved_a.translation().cwiseAbs().maxCoeff() +
-           m_relative.translation().cwiseAbs().maxCoeff() +
-           C.solved_at.translation().cwiseAbs().maxCoeff();
-  return C.solved_a * m_relative * C.solved_at.inverse() * C.solved_a.inverse();
+const Rigid_pose_3& Body_pair_tracker::Motions::b(int k) {
+  if (!(m_made_b & (1u << k))) {
+    // X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
+    const Solve_pose& s = m_c.solves[k];
+    m_length[k] = s.a.translation().cwiseAbs().maxCoeff() +
+                  m_relative.translation().cwiseAbs().maxCoeff() +
+                  s.relative.translation().cwiseAbs().maxCoeff();
+    m_b[k] = s.a * m_relative * s.relative.inverse() * s.a.inverse();
+    m_made_b |= 1u << k;
+  }
+  return m_b[k];
+}
+
+const Rigid_pose_3& Body_pair_tracker::Motions::a(int k) {
+  if (!(m_made_a & (1u << k))) {
+    m_a[k] = b(k).inverse();
+    m_made_a |= 1u << k;
+  }
+  return m_a[k];
 }
 
 bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
   if (C.proof_count == 0) return false;
-  double length = 0.0;
-  const Rigid_pose_3 move_b = motion_since_solve(C, length);
-  const Rigid_pose_3 move_a = move_b.inverse();
+  Motions m(C, m_relative);
   reach = {HUGE_VAL, HUGE_VAL};
   for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
-    const Gradient_proof& p = m_proofs[i];
+    const Gradient_proof& p = m_proofs[i].proof;
+    const int k = m_proofs[i].solve;
     double r = 0.0;
-    if (!gradient_proof_holds(p, p.side == 0 ? move_b : move_a, length, r)) return false;
+    if (!gradient_proof_holds(p, p.side == 0 ? m.b(k) : m.a(k), m.length(k), r)) return false;
     reach[p.side] = std::min(reach[p.side], r);
   }
   return true;
@@ -615,20 +643,63 @@ bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& r
 
 double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
   if (C.bound_count == 0) return -HUGE_VAL;
-  double length = 0.0;
-  const Rigid_pose_3 move_b = motion_since_solve(C, length);
+  Motions m(C, m_relative);
   double lowest = HUGE_VAL;
   for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
-    lowest = std::min(lowest, bound_after_motion(m_bounds[i], move_b, length));
+    const int k = m_bounds[i].solve;
+    lowest = std::min(lowest, bound_after_motion(m_bounds[i].proof, m.b(k), m.length(k)));
     if (lowest < need) break;
   }
   return lowest;
 }
 
-void Body_pair_tracker::keep_proofs(Candidate& C) {
+bool Body_pair_tracker::plan_partial_solve(const Candidate& C, int element_a, int element_b,
+                                           double cutoff, double min_reach, double& lower,
+                                           std::array<double, 2>& reach) {
+  if (C.solve_count == 0 || C.solve_count >= k_kept_solves || C.bound_count + C.proof_count == 0)
+    return false;
+  Motions m(C, m_relative);
+  m_restarts.clear();
+  m_keep_bound.assign(static_cast<std::size_t>(C.bound_count), 0);
+  m_keep_proof.assign(static_cast<std::size_t>(C.proof_count), 0);
+  lower = HUGE_VAL;
+  reach = {HUGE_VAL, HUGE_VAL};
+  for (int i = 0; i < C.bound_count; ++i) {
+    const Kept_bound& kb = m_bounds[C.bound_begin + i];
+    const Bound_proof& p = kb.proof;
+    if (p.a_element != element_a || p.b_element != element_b) return false;
+    const double now = bound_after_motion(p, m.b(kb.solve), m.length(kb.solve));
+    if (now >= cutoff) {
+      m_keep_bound[i] = 1;
+      lower = std::min(lower, now);
+    } else {
+      m_restarts.push_back({p.a_lo, p.a_hi, p.b_lo, p.b_hi});
+    }
+  }
+  for (int i = 0; i < C.proof_count; ++i) {
+    const Kept_proof& kp = m_proofs[C.proof_begin + i];
+    const Gradient_proof& p = kp.proof;
+    double r = 0.0;
+    const int k = kp.solve;
+    if (gradient_proof_holds(p, p.side == 0 ? m.b(k) : m.a(k), m.length(k), r) &&
+        r >= min_reach) {
+      m_keep_proof[i] = 1;
+      reach[p.side] = std::min(reach[p.side], r);
+    } else if (p.side == 0) {
+      m_restarts.push_back({p.own_lo, p.own_hi, p.other_lo, p.other_hi});
+    } else {
+      m_restarts.push_back({p.other_lo, p.other_hi, p.own_lo, p.own_hi});
+    }
+  }
+  return true;
+}
+
+void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
   const std::vector<Gradient_proof>& proofs = m_workspace.gradient_proofs();
   const std::vector<Bound_proof>& bounds = m_workspace.bound_proofs();
-  C.proof_count = C.bound_count = 0;
+  // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
+  // below, which keeps the order within each range.
+  if (!partial) C.proof_count = C.bound_count = 0;
   std::size_t live_proofs = proofs.size(), live_bounds = bounds.size();
   for (const Candidate& c : m_candidates) {
     live_proofs += static_cast<std::size_t>(c.proof_count);
@@ -655,12 +726,46 @@ void Body_pair_tracker::keep_proofs(Candidate& C) {
     compact(m_proofs, &Candidate::proof_begin, &Candidate::proof_count);
     compact(m_bounds, &Candidate::bound_begin, &Candidate::bound_count);
   }
+  // The solves the kept proofs still refer to, renumbered in order, then this one.
+  std::array<int, k_kept_solves> renumber;
+  renumber.fill(-1);
+  int solves = 0;
+  if (partial) {
+    std::array<bool, k_kept_solves> used{};
+    for (int i = 0; i < C.bound_count; ++i)
+      if (m_keep_bound[i]) used[m_bounds[C.bound_begin + i].solve] = true;
+    for (int i = 0; i < C.proof_count; ++i)
+      if (m_keep_proof[i]) used[m_proofs[C.proof_begin + i].solve] = true;
+    for (int k = 0; k < C.solve_count; ++k)
+      if (used[k]) {
+        renumber[k] = solves;
+        C.solves[solves++] = C.solves[k];
+      }
+  }
+  const int current = solves;
+  C.solves[solves++] = at;
+  C.solve_count = solves;
+  const int old_proofs = C.proof_begin, old_bounds = C.bound_begin;
   C.proof_begin = static_cast<int>(m_proofs.size());
-  C.proof_count = static_cast<int>(proofs.size());
-  m_proofs.insert(m_proofs.end(), proofs.begin(), proofs.end());
+  if (partial)
+    for (int i = 0; i < C.proof_count; ++i)
+      if (m_keep_proof[i]) {
+        Kept_proof p = m_proofs[old_proofs + i];  // (a copy: the pool may grow)
+        p.solve = renumber[p.solve];
+        m_proofs.push_back(p);
+      }
+  for (const Gradient_proof& p : proofs) m_proofs.push_back({p, current});
+  C.proof_count = static_cast<int>(m_proofs.size()) - C.proof_begin;
   C.bound_begin = static_cast<int>(m_bounds.size());
-  C.bound_count = static_cast<int>(bounds.size());
-  m_bounds.insert(m_bounds.end(), bounds.begin(), bounds.end());
+  if (partial)
+    for (int i = 0; i < C.bound_count; ++i)
+      if (m_keep_bound[i]) {
+        Kept_bound b = m_bounds[old_bounds + i];
+        b.solve = renumber[b.solve];
+        m_bounds.push_back(b);
+      }
+  for (const Bound_proof& b : bounds) m_bounds.push_back({b, current});
+  C.bound_count = static_cast<int>(m_bounds.size()) - C.bound_begin;
 }
 
 int Body_pair_tracker::find_candidate(std::uint64_t key) const {

@@ -8,8 +8,9 @@
 //   - an Extremal_tracker on each candidate pair that holds the minimum, seeded by the
 //     certified global solver restricted to that pair (extremal_distance_between). Apart, the
 //     other candidate pairs carry a certified lower bound instead (check_vacated), kept up to
-//     date from the proofs of their last restricted solve, and get a tracker when a solve finds
-//     them closer than the tracked minimum (../shared/DESIGN.md section 3 has a tracker per
+//     date from the proofs of their restricted solves (where those fail, only the failing
+//     sub-patch pairs are solved again), and get a tracker when a solve finds them closer than
+//     the tracked minimum (../shared/DESIGN.md section 3 has a tracker per
 //     candidate pair: measured on bench/compare (c), all but one of those trackers followed
 //     pairs that never held the minimum). In contact every candidate pair is tracked;
 //   - patch switching: a tracked point that leaves its face across an edge continues on the
@@ -77,6 +78,9 @@ struct Pair_report {
   long vacated_reach_solves = 0;
   // Sub-patch nodes those solves made in all (a repeatable measure of their work).
   long vacated_nodes = 0;
+  // Of those solves, the ones that solved again only the sub-patch pairs whose kept proofs no
+  // longer cleared it (the rest of the pair's domain kept its proofs).
+  long vacated_partial_solves = 0;
   // Checks past the reach whose set-aside proofs all still held at the current pose: no solve.
   long vacated_proof_checks = 0;
   // Checks whose carried bound ran out but whose last solve's bounded pairs, re-bounded at the
@@ -204,6 +208,14 @@ class Body_pair_tracker {
   // bound on its distance at the relative pose X_AB it was established at (its box distance
   // when it entered, then the restricted solver's lower bound); the bound is carried between
   // steps and decreased by how far the relative motion since can have brought the pair closer.
+  // The poses of a restricted solve whose proofs a candidate keeps: A placed at `a`, and
+  // X_AB = `relative`.
+  struct Solve_pose {
+    Rigid_pose_3 a, relative;
+  };
+  // A candidate keeps the proofs of at most this many solves (a partial solve adds one); past
+  // it, the pair is solved anew.
+  static constexpr int k_kept_solves = 8;
   struct Candidate {
     std::uint64_t key = 0;
     double lower = 0.0;
@@ -218,13 +230,14 @@ class Body_pair_tracker {
     std::array<double, 2> reach{{HUGE_VAL, HUGE_VAL}};
     Rigid_pose_3 reach_at;  // X_AB the reach counts from (`at`, or where the proofs last held)
     std::array<unsigned, 2> carried{{0u, 0u}};
-    // The proofs behind the last restricted solve's result, in its world frame (A placed at
-    // `solved_a`, X_AB = `solved_at`): the pairs it set aside (m_proofs[proof_begin, +
-    // proof_count)) and those it bounded (m_bounds[bound_begin, + bound_count)). When the
-    // carried bound or the reach runs out, check_vacated checks them again at the current pose
-    // instead of solving again.
+    // The proofs behind the carried bound: the pairs its restricted solves set aside
+    // (m_proofs[proof_begin, + proof_count)) and those they bounded (m_bounds[bound_begin, +
+    // bound_count)), each in the world frame of the solve that made it (solves[its index]).
+    // When the carried bound or the reach runs out, check_vacated checks them again at the
+    // current pose instead of solving again, and solves again only the pairs that fail.
     int proof_begin = 0, proof_count = 0, bound_begin = 0, bound_count = 0;
-    Rigid_pose_3 solved_a, solved_at;
+    std::array<Solve_pose, k_kept_solves> solves;
+    int solve_count = 0;
     bool tracked = false;  // scratch of mark_tracked: a live slot tracks the pair
     bool contact_seeded = false;  // seed_in_contact gave it a tracker
   };
@@ -245,15 +258,52 @@ class Body_pair_tracker {
   // The smallest bound of the pairs C's last solve bounded, re-bounded at the current relative
   // pose; stops early once one falls below `need`. -infinity if the solve kept none.
   double bounds_now(const Candidate& C, double need) const;
-  // The relative motion since C's last solve, as a motion of B's points with A held, in that
-  // solve's world frame, and the length its rounding scales with.
-  Rigid_pose_3 motion_since_solve(const Candidate& C, double& length) const;
-  // Appends the workspace's proofs of the last solve to m_proofs and m_bounds as C's
-  // (dropping the ranges of candidates no longer listed when too many are stale).
-  void keep_proofs(Candidate& C);
-  std::vector<Gradient_proof> m_proofs;
-  std::vector<Bound_proof> m_bounds;
+  // The relative motion since each of a candidate's kept solves, as motions of B's points with
+  // A held (b) or A's with B held (a), in those solves' world frames, and the lengths their
+  // rounding scales with; each made on first use.
+  class Motions {
+   public:
+    Motions(const Candidate& C, const Rigid_pose_3& relative) : m_c(C), m_relative(relative) {}
+    const Rigid_pose_3& b(int k);
+    const Rigid_pose_3& a(int k);
+    double length(int k) {
+      b(k);
+      return m_length[k];
+    }
+
+   private:
+    const Candidate& m_c;
+    const Rigid_pose_3& m_relative;
+    std::array<Rigid_pose_3, k_kept_solves> m_b, m_a;
+    std::array<double, k_kept_solves> m_length{};
+    unsigned m_made_b = 0, m_made_a = 0;
+  };
+  // Where C's kept proofs no longer clear `cutoff` at the current pose (a bound re-bounded
+  // below it, a set-aside pair whose gradient proof fails or lasts less than `min_reach`):
+  // their sub-patch pairs into m_restarts, the others marked kept (m_keep_bound, m_keep_proof)
+  // with the lowest bound (`lower`) and reaches (`reach`) they give. False when C cannot be
+  // solved in part (no proofs, or as many kept solves as it may hold).
+  bool plan_partial_solve(const Candidate& C, int element_a, int element_b, double cutoff,
+                          double min_reach, double& lower, std::array<double, 2>& reach);
+  // Appends the workspace's proofs of the solve just made at pose `at` to m_proofs and
+  // m_bounds as C's, after those of C's earlier proofs a partial solve kept (`partial`;
+  // otherwise they are dropped), and drops the ranges of candidates no longer listed when too
+  // many are stale.
+  void keep_proofs(Candidate& C, const Solve_pose& at, bool partial);
+  struct Kept_proof {
+    Gradient_proof proof;
+    int solve = 0;  // index into its candidate's solves
+  };
+  struct Kept_bound {
+    Bound_proof proof;
+    int solve = 0;
+  };
+  std::vector<Kept_proof> m_proofs;
+  std::vector<Kept_bound> m_bounds;
   std::vector<int> m_order;  // scratch of keep_proofs
+  // Scratch of plan_partial_solve.
+  std::vector<Sub_patch_pair> m_restarts;
+  std::vector<unsigned char> m_keep_proof, m_keep_bound;
   std::vector<int> m_prims_a, m_prims_b;
   std::vector<Bbox_3> m_world_a, m_world_b;
   struct Broad_scratch;

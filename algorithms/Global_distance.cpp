@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -385,6 +387,7 @@ struct Distance_scratch {
   std::vector<Hom, Eigen::aligned_allocator<Hom>> region_net;
   std::vector<Gradient_proof> proofs;  // Distance_workspace::gradient_proofs
   std::vector<Bound_proof> bounds;     // Distance_workspace::bound_proofs
+  std::vector<int> sub_patches[2];     // Side::sub_patch's tables
 };
 
 }  // namespace internal
@@ -506,7 +509,13 @@ struct Side {
       n.size = (n.bmax - n.bmin).norm();
       return index;
     }
-    const Distance_hierarchy::Piece& p = h->pieces()[tn.piece];
+    place_piece(index, h->pieces()[tn.piece], depth);
+    finish_net(index);
+    return index;
+  }
+
+  // Node `index` becomes piece p placed in the world.
+  void place_piece(int index, const Distance_hierarchy::Piece& p, int depth) {
     const int count = p.nu * p.nv;
     const int offset = static_cast<int>(pools->hom.size());
     pools->hom.resize(offset + count);
@@ -530,8 +539,61 @@ struct Side {
     n.hi[0] = p.hi[0];
     n.hi[1] = p.hi[1];
     n.depth = depth;
-    finish_net(index);
-    return index;
+  }
+
+  // The node of element e's sub-patch over parameter box [lo, hi]: the one already made for
+  // the same box (found through `table`, an open-addressed hash of node indices, -1 free,
+  // its size a power of two above the number of boxes), or a new one, its piece's net
+  // restricted to the box.
+  int sub_patch(int e, const double* lo, const double* hi, std::vector<int>& table) {
+    const int dim = h->elements()[e].feature.dimension();
+    const double key[4] = {lo[0], hi[0], dim < 2 ? 0.0 : lo[1], dim < 2 ? 0.0 : hi[1]};
+    std::uint64_t hash = 0x9e3779b97f4a7c15ull;
+    for (const double x : key) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof bits);
+      hash = (hash ^ bits) * 0xff51afd7ed558ccdull;
+      hash ^= hash >> 29;
+    }
+    const std::size_t mask = table.size() - 1;
+    std::size_t slot = hash & mask;
+    for (; table[slot] >= 0; slot = (slot + 1) & mask) {
+      const Live_node& n = pools->nodes[table[slot]];
+      if (n.lo[0] == key[0] && n.hi[0] == key[1] && (dim < 2 || (n.lo[1] == key[2] && n.hi[1] == key[3])))
+        return table[slot];
+    }
+    table[slot] = make_sub_patch(e, dim, lo, hi);
+    return table[slot];
+  }
+
+  int make_sub_patch(int e, int dim, const double* lo, const double* hi) {
+    const Distance_hierarchy::Element& el = h->elements()[e];
+    for (int q = el.first_piece; q < el.first_piece + el.piece_count; ++q) {
+      const Distance_hierarchy::Piece& p = h->pieces()[q];
+      double s0[2] = {0.0, 0.0}, s1[2] = {1.0, 1.0};
+      bool inside = true;
+      for (int k = 0; k < dim && inside; ++k) {
+        const double span = p.hi[k] - p.lo[k];
+        inside = p.lo[k] <= lo[k] && lo[k] < hi[k] && hi[k] <= p.hi[k] && span > 0.0;
+        s0[k] = (lo[k] - p.lo[k]) / span;
+        s1[k] = (hi[k] - p.lo[k]) / span;
+      }
+      if (!inside) continue;
+      const int index = new_node();
+      place_piece(index, p, 1);
+      Live_node& n = pools->nodes[index];
+      internal::restrict_net(pools->hom.data() + n.offset, n.nu, n.nv, s0[0], s1[0], s0[1], s1[1]);
+      for (int k = 0; k < dim; ++k) {
+        n.lo[k] = lo[k];
+        n.hi[k] = hi[k];
+      }
+      finish_net(index);
+      return index;
+    }
+    EXTREMAL_PRECONDITION_MSG(false, "sub-patch [" << lo[0] << ", " << hi[0] << "] x [" << lo[1]
+                                                   << ", " << hi[1] << "] lies in no piece of element "
+                                                   << e << " of '" << h->name() << "'");
+    return -1;
   }
 
   // Direction a net is halved in: the one whose control polygon is longer.
@@ -656,10 +718,13 @@ class Solver {
     m_only[0] = ea;
     m_only[1] = eb;
   }
+  // With restrict_to: only these sub-patch pairs of the two elements.
+  void start_from(const std::vector<Sub_patch_pair>& starts) { m_starts = &starts; }
   Distance_result run();
 
  private:
   int m_only[2] = {-1, -1};
+  const std::vector<Sub_patch_pair>* m_starts = nullptr;
   double lower_bound(Live_node& a, Live_node& b, double cutoff);
   void project_on_axis(Live_node& n, int side);
   void corner_candidates(const Live_node& a, const Live_node& b);
@@ -1353,7 +1418,29 @@ Distance_result Solver::run() {
   Distance_result result;
   if (m_req.cutoff < HUGE_VAL && m_req.cutoff > m_resolution) m_best.distance = m_req.cutoff;  // no witness yet (ea = -1)
   auto& heap = m_scratch.heap;
-  if (m_only[0] < 0) {
+  double dropped = HUGE_VAL;  // smallest bound among pruned and settled pairs
+  if (m_starts != nullptr) {
+    // Sub-patch pairs of an earlier query whose proofs failed: each boxed anew at these poses,
+    // each sub-patch made once.
+    std::size_t size = 16;
+    while (size < 2 * m_starts->size()) size *= 2;
+    for (auto& table : m_scratch.sub_patches) table.assign(size, -1);
+    for (const Sub_patch_pair& s : *m_starts) {
+      const int na = m_side[0].sub_patch(m_only[0], s.a_lo.data(), s.a_hi.data(), m_scratch.sub_patches[0]);
+      const int nb = m_side[1].sub_patch(m_only[1], s.b_lo.data(), s.b_hi.data(), m_scratch.sub_patches[1]);
+      const double cutoff = prune_level() - k_prune * tolerance();
+      const double L =
+          lower_bound(m_side[0].pools->nodes[na], m_side[1].pools->nodes[nb], cutoff);
+      if (L >= cutoff) {
+        dropped = std::min(dropped, L);
+        keep_bound(m_side[0].pools->nodes[na], m_side[1].pools->nodes[nb], L);
+        continue;
+      }
+      if (holds_no_minimum(na, nb, 0) || holds_no_minimum(na, nb, 1)) continue;
+      heap.push_back({L, na, nb});
+      std::push_heap(heap.begin(), heap.end(), Heap_order());
+    }
+  } else if (m_only[0] < 0) {
     const int ra = m_side[0].make_from_tree(0, 0);
     const int rb = m_side[1].make_from_tree(0, 0);
     heap.push_back({lower_bound(m_side[0].pools->nodes[ra], m_side[1].pools->nodes[rb], HUGE_VAL),
@@ -1382,7 +1469,6 @@ Distance_result Solver::run() {
       }
     }
   }
-  double dropped = HUGE_VAL;  // smallest bound among pruned and settled pairs
   bool out_of_budget = false;
   long pops = 0;
 
@@ -1534,6 +1620,24 @@ Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rig
   EXTREMAL_PRECONDITION_MSG(request.max_nodes > 0, "max_nodes must be > 0, got " << request.max_nodes);
   Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
   solver.restrict_to(element_a, element_b);
+  return solver.run();
+}
+
+Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                          int element_a, const Distance_hierarchy& B,
+                                          const Rigid_pose_3& X_WB, int element_b,
+                                          const std::vector<Sub_patch_pair>& starts,
+                                          const Distance_request& request,
+                                          Distance_workspace& workspace) {
+  EXTREMAL_PRECONDITION_MSG(
+      element_a >= 0 && element_a < static_cast<int>(A.elements().size()) && element_b >= 0 &&
+          element_b < static_cast<int>(B.elements().size()),
+      "no element pair (" << element_a << ", " << element_b << ") in '" << A.name() << "' and '"
+                          << B.name() << "'");
+  EXTREMAL_PRECONDITION_MSG(request.max_nodes > 0, "max_nodes must be > 0, got " << request.max_nodes);
+  Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
+  solver.restrict_to(element_a, element_b);
+  solver.start_from(starts);
   return solver.run();
 }
 

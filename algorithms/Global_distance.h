@@ -322,6 +322,25 @@ class Distance_workspace {
                                                         const Distance_request& request,
                                                         Distance_workspace& workspace);
 
+// A pair of sub-patches of a restricted query's two elements, by their parameter boxes (as
+// Bound_proof and Gradient_proof keep them; a curve's second parameter: 0 to 0), each inside
+// one Bezier piece of its element.
+struct Sub_patch_pair {
+  std::array<double, 2> a_lo{{0, 0}}, a_hi{{0, 0}}, b_lo{{0, 0}}, b_hi{{0, 0}};
+};
+
+// The same restricted query over the given sub-patch pairs only: its bounds, witness and kept
+// proofs cover their union, not the whole elements. A caller whose earlier proofs still hold
+// over the rest of the domain re-solves only where they fail. Throws Precondition_violation on
+// a box outside every piece of its element.
+[[nodiscard]] Distance_result extremal_distance_between(const Distance_hierarchy& A,
+                                                        const Rigid_pose_3& X_WA, int element_a,
+                                                        const Distance_hierarchy& B,
+                                                        const Rigid_pose_3& X_WB, int element_b,
+                                                        const std::vector<Sub_patch_pair>& starts,
+                                                        const Distance_request& request,
+                                                        Distance_workspace& workspace);
+
 // ---- Starting and auditing trackers --------------------------------------------------------
 
 // What an Extremal_tracker needs to start on the global pair: the two features (referring to

@@ -308,11 +308,11 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
       if (run == 0 && last)
         std::fprintf(stderr, "(%s) %g Hz: candidate pairs without a tracker checked %ld times, "
                      "%ld restricted solves (%ld nodes; %ld on creases, %ld past their reach with the "
-                     "bound clear); instead, %ld set-aside proofs and %ld bounds checked "
+                     "bound clear, %ld partial); instead, %ld set-aside proofs and %ld bounds checked "
                      "again; %ld broad phases, %ld seeds, %ld transitions; %ld corrections, "
                      "%ld steps that ran all of them\n",
                      s.key.c_str(), c.rate, last->vacated_checks, last->vacated_solves,
-                     last->vacated_nodes, last->vacated_crease_solves, last->vacated_reach_solves,
+                     last->vacated_nodes, last->vacated_crease_solves, last->vacated_reach_solves, last->vacated_partial_solves,
                      last->vacated_proof_checks, last->vacated_bound_checks,
                      last->broad_phases, last->seeds,
                      last->transitions, last->corrections, last->capped_corrections);

@@ -104,6 +104,94 @@ TEST(GlobalDistance, EllipsoidsAgainstSupportFunctionCertificate) {
   EXPECT_GE(cases, 30);
 }
 
+// A restricted query started from the sub-patch pairs of an earlier one (Body_pair_tracker
+// solves again only the pairs whose kept proofs fail): from all of them at the same poses, the
+// distance; after B moved, the pairs whose re-bound fell below the earlier distance solved
+// again, with the others' re-bounds, give a bound that holds and the distance where the
+// re-bounds clear it, against the support-function certificate.
+TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
+  auto rng = test::seeded_rng();
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const Vec3 axes_a(3, 2, 1.5), axes_b(2, 1.2, 1);
+  const Body A = make_ellipsoid_body(axes_a.x(), axes_a.y(), axes_a.z());
+  const Body B = make_ellipsoid_body(axes_b.x(), axes_b.y(), axes_b.z());
+  const Distance_hierarchy ha(A), hb(B);
+  const int ea = ha.element_of(Element_kind::Face, 0), eb = hb.element_of(Element_kind::Face, 0);
+  Distance_workspace ws, ws_again;
+  Distance_request req;
+  req.absolute_tolerance = req.relative_tolerance = 1e-10;
+  req.keep_proofs = true;
+  int cases = 0, found = 0;
+  long part_nodes = 0, anew_nodes = 0;
+  for (int trial = 0; trial < 200 && cases < 20; ++trial) {
+    const Rigid_pose_3 X_WA = random_pose(rng, 1.0);
+    const Rigid_pose_3 X_WB = random_pose(rng, 8.0);
+    const auto truth = ellipsoid_distance({X_WA, axes_a}, {X_WB, axes_b});
+    if (!truth.separated || truth.lower_bound < 1e-2) continue;
+    ++cases;
+    SCOPED_TRACE(::testing::Message() << "case " << cases);
+    const Distance_result first = extremal_distance_between(ha, X_WA, ea, hb, X_WB, eb, req, ws);
+    ASSERT_TRUE(first.is_certified()) << to_string(first.status);
+    const std::vector<Bound_proof> bounds = ws.bound_proofs();
+    ASSERT_FALSE(bounds.empty());
+    std::vector<Sub_patch_pair> all;
+    for (const Bound_proof& b : bounds) all.push_back({b.a_lo, b.a_hi, b.b_lo, b.b_hi});
+    const Distance_result same = extremal_distance_between(ha, X_WA, ea, hb, X_WB, eb, all, req, ws_again);
+    EXPECT_TRUE(same.is_certified()) << to_string(same.status);
+    EXPECT_NEAR(same.distance, truth.upper_bound, 1e-9 * truth.upper_bound);
+    EXPECT_NEAR(same.lower_bound, truth.lower_bound, 1e-9 * truth.upper_bound);
+
+    // B turned about a point near it and shifted, by a few percent of the distance.
+    const double scale = 0.05 * truth.upper_bound;
+    const Vec3 centre = X_WB.translation() + Vec3(unit(rng), unit(rng), unit(rng));
+    const Rigid_pose_3 motion =
+        Rigid_pose_3(Mat3::Identity(), centre + scale * Vec3(unit(rng), unit(rng), unit(rng))) *
+        Rigid_pose_3(Eigen::AngleAxisd(0.02 * unit(rng), Vec3(unit(rng), unit(rng), unit(rng)).normalized())
+                         .toRotationMatrix(),
+                     Vec3::Zero()) *
+        Rigid_pose_3(Mat3::Identity(), -centre);
+    const Rigid_pose_3 X_WB1 = motion * X_WB;
+    const auto truth1 = ellipsoid_distance({X_WA, axes_a}, {X_WB1, axes_b});
+    std::vector<Sub_patch_pair> restarts;
+    double kept = HUGE_VAL;
+    for (const Bound_proof& b : bounds) {
+      const double now = bound_after_motion(b, motion, X_WB.translation().norm());
+      if (now >= first.distance)
+        kept = std::min(kept, now);
+      else
+        restarts.push_back({b.a_lo, b.a_hi, b.b_lo, b.b_hi});
+    }
+    const Distance_result part = extremal_distance_between(ha, X_WA, ea, hb, X_WB1, eb, restarts, req, ws_again);
+    const Distance_result anew = extremal_distance_between(ha, X_WA, ea, hb, X_WB1, eb, req, ws_again);
+    part_nodes += part.nodes_created;
+    anew_nodes += anew.nodes_created;
+    EXPECT_LE(std::min(part.lower_bound, kept), truth1.upper_bound + 1e-12);
+    if (part.element_a >= 0) EXPECT_GE(part.distance, truth1.lower_bound - 1e-12);
+    if (kept > truth1.upper_bound) {
+      ++found;
+      EXPECT_NEAR(part.distance, truth1.upper_bound, 1e-9 * truth1.upper_bound);
+    }
+  }
+  std::printf("[ case     ] %d cases, %d found by the pairs solved again; %ld nodes against %ld "
+              "solving anew\n", cases, found, part_nodes, anew_nodes);
+  EXPECT_GE(cases, 15);
+  EXPECT_GE(found, cases / 2);
+  EXPECT_LT(part_nodes, anew_nodes);
+
+  // A sub-patch in no piece of its element is an error that names the element.
+  Sub_patch_pair outside;
+  outside.a_lo = {10.0, 0.0};
+  outside.a_hi = {11.0, 0.5};
+  outside.b_hi = {0.5, 0.5};
+  try {
+    (void)extremal_distance_between(ha, Rigid_pose_3(), ea, hb, random_pose(rng, 8.0), eb, {outside},
+                                    req, ws);
+    ADD_FAILURE() << "no error for a sub-patch outside its element";
+  } catch (const Precondition_violation& e) {
+    EXPECT_NE(std::string(e.what()).find("lies in no piece of element"), std::string::npos) << e.what();
+  }
+}
+
 // ---- A sphere in the hole of a torus -------------------------------------------------------
 
 // Distance from a sphere (centre p, radius rs) to a torus (axis z, radii R, r) it does not touch:
