@@ -321,8 +321,38 @@ bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scal
     else
       for (int j = 0; j <= i; ++j) h[i][j] = 0.5 * (S[i] * M(i, j) + S[j] * M(j, i));
   }
-  // Cholesky H = L L^T, L in the lower triangle of h; pivots are L_kk^2.
   const double tiny = 1e-12 * scale;
+  if (n == 4) {
+    // Two surfaces, H = [P Q; Q^T R] in 2 x 2 blocks: block LDL^T by the blocks' adjugates,
+    // two divisions in series where the Cholesky below has four square roots and four
+    // divisions (the step's critical path). Its pivots are P00, det P / P00, S00 and
+    // det S / S00, S = R - Q^T P^-1 Q: the Cholesky's, tested against the same threshold.
+    const double p00 = h[0][0], p10 = h[1][0], p11 = h[1][1];
+    const double q00 = h[2][0], q10 = h[2][1], q01 = h[3][0], q11 = h[3][1];  // Q(i, k) = h[2 + k][i]
+    const double det_p = p00 * p11 - p10 * p10;
+    if (!(p00 > tiny) || !(det_p > tiny * p00)) return false;
+    const double ip = 1.0 / det_p;
+    // W = P^-1 Q and y = P^-1 r_top.
+    const double w00 = ip * (p11 * q00 - p10 * q10), w10 = ip * (p00 * q10 - p10 * q00);
+    const double w01 = ip * (p11 * q01 - p10 * q11), w11 = ip * (p00 * q11 - p10 * q01);
+    const double y0 = ip * (p11 * r[0] - p10 * r[1]), y1 = ip * (p00 * r[1] - p10 * r[0]);
+    const double s00 = h[2][2] - (q00 * w00 + q10 * w10);
+    const double s10 = h[3][2] - (q01 * w00 + q11 * w10);
+    const double s11 = h[3][3] - (q01 * w01 + q11 * w11);
+    const double det_s = s00 * s11 - s10 * s10;
+    if (!(s00 > tiny) || !(det_s > tiny * s00)) return false;
+    const double is = 1.0 / det_s;
+    const double b0 = r[2] - (q00 * y0 + q10 * y1), b1 = r[3] - (q01 * y0 + q11 * y1);
+    Vec4 z;
+    z[2] = is * (s11 * b0 - s10 * b1);
+    z[3] = is * (s00 * b1 - s10 * b0);
+    z[0] = y0 - (w00 * z[2] + w01 * z[3]);
+    z[1] = y1 - (w10 * z[2] + w11 * z[3]);
+    if (!z.allFinite()) return false;
+    x = z;
+    return true;
+  }
+  // Cholesky H = L L^T, L in the lower triangle of h; pivots are L_kk^2.
   double inv[4];
   for (int j = 0; j < 4; ++j) {
     double p = h[j][j];
