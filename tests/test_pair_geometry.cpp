@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "algorithms/Pair_geometry.h"
@@ -192,6 +194,48 @@ TEST(PairGeometry, ConstrainedSolveFreezesParametersPushedOutward) {
   // Singular: reported, x zero.
   EXPECT_FALSE(solve_constrained(Mat4::Zero(), Vec4(1, 1, 1, 1), 4, 0, 0, x));
   EXPECT_TRUE(x.isZero());
+}
+
+// Seeking a minimum between two surfaces, the system H x = S rhs (H = S M, S = +1 on A's rows
+// and -1 on B's) is solved by 2 x 2 blocks: against a pivoted LU of M, on random positive
+// definite H from well to badly conditioned, with S M exactly symmetric or not; an indefinite H
+// gets a descent step (shifted), never a step uphill.
+TEST(PairGeometry, TwoSurfacesMinimumSolveMatchesTheDirectSolve) {
+  auto rng = test::seeded_rng();
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const Vec4 S(1.0, 1.0, -1.0, -1.0);
+  for (int trial = 0; trial < 400; ++trial) {
+    const Eigen::HouseholderQR<Mat4> qr(Mat4::NullaryExpr([&](Eigen::Index, Eigen::Index) { return unit(rng); }));
+    const Mat4 Q = qr.householderQ();
+    Vec4 eig;
+    const double spread = std::pow(10.0, -(trial % 7));  // condition 1 to 1e6
+    for (int k = 0; k < 4; ++k) eig[k] = spread + (1.0 - spread) * std::abs(unit(rng));
+    const bool indefinite = trial % 5 == 4;
+    if (indefinite) eig[trial % 4] = -eig[trial % 4];
+    Mat4 H = Q * eig.asDiagonal() * Q.transpose();
+    H = (0.5 * (H + H.transpose())).eval();
+    const bool symmetric = trial % 2 == 0;
+    Mat4 M = S.asDiagonal() * H;  // M = S H, so S M = H
+    if (!symmetric) M += 1e-13 * Mat4::NullaryExpr([&](Eigen::Index, Eigen::Index) { return unit(rng); });
+    const Vec4 rhs(unit(rng), unit(rng), unit(rng), unit(rng));
+    Solve_mode mode;
+    mode.minimum = true;
+    mode.na = 2;
+    mode.scale = 1.0;
+    mode.symmetric = symmetric;
+    mode.scaled_shift = true;
+    mode.damp_when_b_held = false;
+    Vec4 x;
+    SCOPED_TRACE(::testing::Message() << "trial " << trial);
+    ASSERT_TRUE(solve_constrained(M, rhs, 4, 0, 0, x, mode));
+    const Vec4 r = S.cwiseProduct(rhs);  // H x = r
+    if (indefinite) {
+      EXPECT_GT(x.dot(r), 0.0);  // descent on |d|^2 / 2
+      continue;
+    }
+    const Vec4 direct = M.partialPivLu().solve(rhs);
+    EXPECT_LE((x - direct).norm(), 1e-12 / spread * direct.norm()) << x.transpose() << " / " << direct.transpose();
+  }
 }
 
 }  // namespace
