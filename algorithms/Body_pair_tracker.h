@@ -204,10 +204,6 @@ class Body_pair_tracker {
   std::vector<Feature> m_features_a, m_features_b;
   std::vector<Live> m_live;
   std::vector<int> m_free;  // free slots of m_live
-  // Broad phase: candidate pairs, sorted by key (pa << 32 | pb), each with a certified lower
-  // bound on its distance at the relative pose X_AB it was established at (its box distance
-  // when it entered, then the restricted solver's lower bound); the bound is carried between
-  // steps and decreased by how far the relative motion since can have brought the pair closer.
   // The poses of a restricted solve whose proofs a candidate keeps: A placed at `a`, and
   // X_AB = `relative`.
   struct Solve_pose {
@@ -216,6 +212,10 @@ class Body_pair_tracker {
   // A candidate keeps the proofs of at most this many solves (a partial solve adds one); past
   // it, the pair is solved anew.
   static constexpr int k_kept_solves = 8;
+  // Broad phase: candidate pairs, sorted by key (pa << 32 | pb), each with a certified lower
+  // bound on its distance at the relative pose X_AB it was established at (its box distance
+  // when it entered, then the restricted solver's lower bound); the bound is carried between
+  // steps and decreased by how far the relative motion since can have brought the pair closer.
   struct Candidate {
     std::uint64_t key = 0;
     double lower = 0.0;
@@ -272,19 +272,26 @@ class Body_pair_tracker {
     }
 
    private:
+    // Made in place on first use (these run for every check: no identities written ahead).
+    union Slot {
+      Slot() {}
+      Rigid_pose_3 pose;
+    };
     const Candidate& m_c;
     const Rigid_pose_3& m_relative;
-    std::array<Rigid_pose_3, k_kept_solves> m_b, m_a;
-    std::array<double, k_kept_solves> m_length{};
+    Slot m_b[k_kept_solves], m_a[k_kept_solves];
+    double m_length[k_kept_solves];
     unsigned m_made_b = 0, m_made_a = 0;
   };
   // Where C's kept proofs no longer clear `cutoff` at the current pose (a bound re-bounded
   // below it, a set-aside pair whose gradient proof fails or lasts less than `min_reach`):
   // their sub-patch pairs into m_restarts, the others marked kept (m_keep_bound, m_keep_proof)
-  // with the lowest bound (`lower`) and reaches (`reach`) they give. False when C cannot be
-  // solved in part (no proofs, or as many kept solves as it may hold).
+  // with the lowest bound (`lower`) and reaches (`reach`) they give. False when C is better
+  // solved anew: no proofs, as many kept solves as it may hold, or more failing pairs than
+  // twice the solve's node budget `max_nodes` (their sub-patches would exhaust it).
   bool plan_partial_solve(const Candidate& C, int element_a, int element_b, double cutoff,
-                          double min_reach, double& lower, std::array<double, 2>& reach);
+                          double min_reach, int max_nodes, double& lower,
+                          std::array<double, 2>& reach);
   // Appends the workspace's proofs of the solve just made at pose `at` to m_proofs and
   // m_bounds as C's, after those of C's earlier proofs a partial solve kept (`partial`;
   // otherwise they are dropped), and drops the ranges of candidates no longer listed when too

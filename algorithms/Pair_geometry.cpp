@@ -303,7 +303,7 @@ unsigned keep_in_domain(const Feature& A, const Feature& B, Vec4& params) {
   return Parameter_domain::of(A, B).clamp(params);
 }
 
-namespace {
+namespace internal {
 
 // The common case of solve_masked, written out: nothing frozen, seeking a minimum, H = S M
 // symmetrised and positive definite with every pivot above the singularity threshold. Returns
@@ -383,10 +383,14 @@ bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scal
   return true;
 }
 
+}  // namespace internal
+
+namespace {
+
 bool solve_masked(const Mat4& M, const Vec4& rhs, int n, unsigned frozen, const Solve_mode& mode,
                   Vec4& x) {
   if (mode.minimum && !mode.damped && frozen == 0 && mode.scale > 0.0 &&
-      solve_minimum_pd(M, rhs, mode.na, n, mode.scale, mode.symmetric, x))
+      internal::solve_minimum_pd(M, rhs, mode.na, n, mode.scale, mode.symmetric, x))
     return true;
   Mat4 A = M;
   Vec4 r = rhs;

@@ -118,6 +118,15 @@ Solve_mode solve_mode_for(const Pair_system& s, bool minimum = true);
 bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
                        unsigned lower_side, Vec4& x, const Solve_mode& mode = {false, 0});
 
+namespace internal {
+// solve_constrained's common case, exposed for its tests: seeking a minimum with nothing frozen
+// (S = +1 on the first na rows, -1 on the rest of the n active ones), H = S M positive definite
+// with every pivot above 1e-12 scale (two surfaces: by 2 x 2 blocks). False, x untouched, where
+// the general path has to decide.
+bool solve_minimum_pd(const Mat4& M, const Vec4& rhs, int na, int n, double scale, bool symmetric,
+                      Vec4& x);
+}  // namespace internal
+
 
 struct Newton_options {
   int max_iterations = 60;

@@ -235,6 +235,10 @@ TEST(PairGeometry, TwoSurfacesMinimumSolveMatchesTheDirectSolve) {
     }
     const Vec4 direct = M.partialPivLu().solve(rhs);
     EXPECT_LE((x - direct).norm(), 1e-12 / spread * direct.norm()) << x.transpose() << " / " << direct.transpose();
+    // The block path itself answers (not the general one after it).
+    Vec4 y;
+    ASSERT_TRUE(internal::solve_minimum_pd(M, rhs, 2, 4, 1.0, symmetric, y));
+    EXPECT_EQ(x, y);
   }
 }
 
