@@ -1607,11 +1607,13 @@ Distance_result extremal_distance(const Distance_hierarchy& A, const Rigid_pose_
   return solver.run();
 }
 
-Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
-                                          int element_a, const Distance_hierarchy& B,
-                                          const Rigid_pose_3& X_WB, int element_b,
-                                          const Distance_request& request,
-                                          Distance_workspace& workspace) {
+namespace {
+// Element a of A against element b of B, from their pieces or from `starts` (if not null).
+Distance_result restricted_query(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                 int element_a, const Distance_hierarchy& B,
+                                 const Rigid_pose_3& X_WB, int element_b,
+                                 const std::vector<Sub_patch_pair>* starts,
+                                 const Distance_request& request, Distance_workspace& workspace) {
   EXTREMAL_PRECONDITION_MSG(
       element_a >= 0 && element_a < static_cast<int>(A.elements().size()) && element_b >= 0 &&
           element_b < static_cast<int>(B.elements().size()),
@@ -1620,7 +1622,17 @@ Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rig
   EXTREMAL_PRECONDITION_MSG(request.max_nodes > 0, "max_nodes must be > 0, got " << request.max_nodes);
   Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
   solver.restrict_to(element_a, element_b);
+  if (starts != nullptr) solver.start_from(*starts);
   return solver.run();
+}
+}  // namespace
+
+Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                          int element_a, const Distance_hierarchy& B,
+                                          const Rigid_pose_3& X_WB, int element_b,
+                                          const Distance_request& request,
+                                          Distance_workspace& workspace) {
+  return restricted_query(A, X_WA, element_a, B, X_WB, element_b, nullptr, request, workspace);
 }
 
 Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
@@ -1629,16 +1641,7 @@ Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rig
                                           const std::vector<Sub_patch_pair>& starts,
                                           const Distance_request& request,
                                           Distance_workspace& workspace) {
-  EXTREMAL_PRECONDITION_MSG(
-      element_a >= 0 && element_a < static_cast<int>(A.elements().size()) && element_b >= 0 &&
-          element_b < static_cast<int>(B.elements().size()),
-      "no element pair (" << element_a << ", " << element_b << ") in '" << A.name() << "' and '"
-                          << B.name() << "'");
-  EXTREMAL_PRECONDITION_MSG(request.max_nodes > 0, "max_nodes must be > 0, got " << request.max_nodes);
-  Solver solver(A, X_WA, B, X_WB, request, workspace.scratch());
-  solver.restrict_to(element_a, element_b);
-  solver.start_from(starts);
-  return solver.run();
+  return restricted_query(A, X_WA, element_a, B, X_WB, element_b, &starts, request, workspace);
 }
 
 Distance_result extremal_distance(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
