@@ -166,7 +166,9 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
     part_nodes += part.nodes_created;
     anew_nodes += anew.nodes_created;
     EXPECT_LE(std::min(part.lower_bound, kept), truth1.upper_bound + 1e-12);
-    if (part.element_a >= 0) EXPECT_GE(part.distance, truth1.lower_bound - 1e-12);
+    if (part.element_a >= 0) {
+      EXPECT_GE(part.distance, truth1.lower_bound - 1e-12);
+    }
     if (kept > truth1.upper_bound) {
       ++found;
       EXPECT_NEAR(part.distance, truth1.upper_bound, 1e-9 * truth1.upper_bound);
