@@ -134,14 +134,10 @@ constexpr double k_proving_steps = 2.0;
 // (100: more solves fall back, 497k nodes at 10 kHz): spent, the solve still leaves the bound
 // it reached, or falls back to the usual solve.
 constexpr double k_crease_fraction = 0.125;
-// check_vacated certifies candidate pairs against the tracked minimum less this fraction of the
-// seeding tolerance (see there).
-constexpr double k_exact_fraction = 1e-3;
 constexpr int k_crease_nodes = 200;
 // A tracked pair carries a crease only when its tracker's normalised errors (sines of the
 // angles off stationarity) along its free parameters are below this: the distance it is above
-// its minimum is then about d e^2 / 2, below the margin check_vacated certifies against
-// (k_exact_fraction of the seeding tolerance).
+// its minimum is then about d e^2 / 2, far below the seeding tolerance.
 constexpr double k_converged_error = 1e-6;
 
 bool closed_form_pair(const Primitive& a, const Primitive& b) {
@@ -442,13 +438,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
   mark_tracked();
   const double tol = std::max(m_options.seeding.absolute_tolerance,
                               m_options.seeding.relative_tolerance * best);
-  // A pair certified at or above `need` holds nothing closer. Its margin below the tracked
-  // minimum is a small part of the solver's tolerance: across a G1 join the neighbour's
-  // minimum comes closer than the tracked one (held on the join) by less than the tolerance,
-  // and would go unseeded (a sphere circling a capsule, the stress suite: error 8.8e-10 with
-  // the whole tolerance, 1.1e-14 with this; compare's counters unchanged).
-  const double exact = k_exact_fraction * tol;
-  const double need = best - exact;
+  const double need = best - tol;  // a pair certified at or above this holds nothing closer
   bool seeded = false;
   for (Candidate& C : m_candidates) {
     if (C.tracked) continue;
@@ -528,8 +518,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // the pair's minimum x* below `need`, it would lie in a set-aside sub-patch pair (the others
     // are bounded above it), where a non-vanishing gradient component puts a minimiser on the
     // domain boundary, i.e. on a carried side (no other side is touched); that side is the
-    // tracked neighbour's too (within side_gap <= exact / 4), so the tracked pair would hold a
-    // point below its tracked minimum by more than 3/4 of `exact` - what every tracked pair is
+    // tracked neighbour's too (within side_gap <= tol / 4), so the tracked pair would hold a
+    // point below its tracked minimum by more than the tolerance - what every tracked pair is
     // taken not to do (check_vacated never checks tracked pairs), required here of a converged
     // tracker only (tracks_converged: a lagging one may sit above the crease). After motion,
     // the gradient keeps its sign while the other primitive has moved less than the reach the
@@ -548,8 +538,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       m_report.vacated_nodes += result.nodes_created;
       return result;
     };
-    unsigned carried_a = carried_sides(0, pa, pb, exact);
-    unsigned carried_b = carried_sides(1, pb, pa, exact);
+    unsigned carried_a = carried_sides(0, pa, pb, tol);
+    unsigned carried_b = carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;
     // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
     // edge) would likewise be solved to its witness there every time: it is proved against a

@@ -247,9 +247,8 @@ class Body_pair_tracker {
   // A live slot on (pa, pb) whose witnesses lie on the bodies, converged (see
   // k_converged_error in the .cpp).
   bool tracks_converged(int pa, int pb) const;
-  // Sides of primitive p of body `side` (0 A, 1 B) shared (within tol / 4: check_vacated's
-  // margin) with a neighbour whose pair with `other` is tracked: the crease sides a restricted
-  // solve may declare carried.
+  // Sides of primitive p of body `side` (0 A, 1 B) shared (within tol / 4) with a neighbour
+  // whose pair with `other` is tracked: the crease sides a restricted solve may declare carried.
   unsigned carried_sides(int side, int p, int other, double tol) const;
   // Whether the neighbours across a candidate's carried sides are still tracked.
   bool carriers_tracked(const Candidate& C) const;
