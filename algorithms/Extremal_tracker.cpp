@@ -101,9 +101,9 @@ double Extremal_tracker::signed_distance(unsigned on_edge) const {
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = m_system.distance;  // |ab| = |d|
   if (m_a.dimension() == 2)
-    return ab.dot(m_system.normal_a) < 0.0 && !(on_edge & 3u) ? -len : len;
+    return ab.dot(m_system.outward_a) < 0.0 && !(on_edge & 3u) ? -len : len;
   if (m_b.dimension() == 2)
-    return ab.dot(m_system.normal_b) > 0.0 && !((on_edge >> m_a.dimension()) & 3u) ? -len : len;
+    return ab.dot(m_system.outward_b) > 0.0 && !((on_edge >> m_a.dimension()) & 3u) ? -len : len;
   return len;
 }
 
@@ -115,7 +115,8 @@ Degeneracy Extremal_tracker::classify_singular() const {
     const double lu = f->d[0].norm(), lv = f->d[1].norm();
     if (std::min(lu, lv) <= 1e-6 * std::max(lu, lv)) return Degeneracy::Pole;
   }
-  if (s.na == 2 && s.nb == 2 && s.normal_a.cross(s.normal_b).norm() < 1e-6) {
+  if (s.na == 2 && s.nb == 2 &&
+      unit_normal(s.outward_a).cross(unit_normal(s.outward_b)).norm() < 1e-6) {
     const double size = std::max(m_a.size(), m_b.size());
     return s.distance <= 1e-9 * size ? Degeneracy::Coincident : Degeneracy::Parallel;
   }
@@ -257,9 +258,9 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
   if (r.distance != 0.0) {
     r.normal = (r.point_b - r.point_a) / r.distance;
   } else if (m_a.dimension() == 2) {
-    r.normal = m_system.normal_a;
+    r.normal = unit_normal(m_system.outward_a);
   } else if (m_b.dimension() == 2) {
-    r.normal = -m_system.normal_b;
+    r.normal = -unit_normal(m_system.outward_b);
   } else {
     r.normal.setZero();
   }

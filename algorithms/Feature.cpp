@@ -55,7 +55,7 @@ bool Feature::is_closed(int i) const {
 }
 
 void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* params,
-                      Feature_point& out, int order) {
+                      Feature_point& out, int order, Span_hint* hint) {
   const Mat3& R = X_WA.rotation();
   switch (f.kind()) {
     case Feature::Kind::Point:
@@ -72,7 +72,8 @@ void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* 
     case Feature::Kind::Surface: {
       // Rows p, du, dv, duu, duv, dvv, straight from the evaluation kernel (the hot path).
       double rows[6][4];
-      f.surface()->evaluate_placed_rows(params[0], params[1], R, X_WA.translation(), rows, order);
+      f.surface()->evaluate_placed_rows(params[0], params[1], R, X_WA.translation(), rows, order,
+                                          hint);
       out.p = Vec3::Map(rows[0]);
       if (order >= 1) {
         out.d[0] = Vec3::Map(rows[1]);

@@ -58,7 +58,8 @@ struct Feature_point {
 
 // Evaluates `f` at `params` (dimension() of them) under pose X_WA. `order` as in
 // Nurbs_surface_3::evaluate. No heap allocation.
+// `hint` as in Nurbs_surface_3::evaluate_placed_rows (surfaces only; may be null).
 void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* params,
-                      Feature_point& out, int order = 2);
+                      Feature_point& out, int order = 2, Span_hint* hint = nullptr);
 
 }  // namespace extremal

@@ -17,21 +17,18 @@ namespace extremal {
 
 namespace {
 
-// Unit outward normal of a surface feature and, when `dn` is not null, its derivatives along
-// the two parameters (only the normal forms need them).
-void outward_normal(const Feature_point& f, int sign, Vec3& n, Vec3* dn) {
-  const Vec3 m = sign * f.d[0].cross(f.d[1]);
+// The unit normal n = m / |m| of a surface feature whose outward m = sign (t_u x t_v) is
+// given, and its derivatives along the two parameters (the normal forms need both).
+void unit_normal_and_derivatives(const Feature_point& f, int sign, const Vec3& m, Vec3& n,
+                                 Vec3 (&dn)[2]) {
   const double len = m.norm();
   if (!(len > 0.0)) {
     n.setZero();
-    if (dn) {
-      dn[0].setZero();
-      dn[1].setZero();
-    }
+    dn[0].setZero();
+    dn[1].setZero();
     return;
   }
   n = m / len;
-  if (!dn) return;
   for (int k = 0; k < 2; ++k) {
     const Vec3 dm = sign * (f.dd[0][k].cross(f.d[1]) + f.d[0].cross(f.dd[1][k]));
     dn[k] = (dm - n * n.dot(dm)) / len;
@@ -39,11 +36,12 @@ void outward_normal(const Feature_point& f, int sign, Vec3& n, Vec3* dn) {
 }
 
 // Phi, the projection errors and M of any form and feature dimensions.
-void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const Vec3* dn_a,
-                        const Vec3* dn_b);
+// `n`, `dn`: the reference surface's unit normal and its derivatives (the normal forms).
+void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const Vec3& n,
+                        const Vec3 (&dn)[2]);
 // The motion term b of the system's form (zero unless `with_motion` and a body moves).
 void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
-                bool with_motion);
+                bool with_motion, const Vec3& n);
 // Normal forms: divides the rows of the non-reference surface's vanishing tangents near its
 // poles by the distance to the pole (see the definition).
 void desingularise_pole_rows(const Feature& f, const double* q, int offset, Pair_system& s);
@@ -55,27 +53,26 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
   const int na = A.feature->dimension(), nb = B.feature->dimension();
   s.na = na;
   s.nb = nb;
-  evaluate_feature(*A.feature, *A.pose, params.data(), s.a, 2);
-  evaluate_feature(*B.feature, *B.pose, params.data() + na, s.b, 2);
+  evaluate_feature(*A.feature, *A.pose, params.data(), s.a, 2, &s.spans_a);
+  evaluate_feature(*B.feature, *B.pose, params.data() + na, s.b, 2, &s.spans_b);
   const Vec3 d = s.a.p - s.b.p;
   s.d = d;
   s.distance = d.norm();
-  Vec3 dn_a[2], dn_b[2];
   const bool surf_a = na == 2, surf_b = nb == 2;
   if ((form == Formulation::Normal_of_a && (!surf_a || nb == 0)) ||
       (form == Formulation::Normal_of_b && (!surf_b || na == 0)))
     form = Formulation::Projection;
   s.form = form;
-  if (surf_a)
-    outward_normal(s.a, A.feature->outward_sign(), s.normal_a,
-                   form == Formulation::Normal_of_a ? dn_a : nullptr);
-  else
-    s.normal_a.setZero();
-  if (surf_b)
-    outward_normal(s.b, B.feature->outward_sign(), s.normal_b,
-                   form == Formulation::Normal_of_b ? dn_b : nullptr);
-  else
-    s.normal_b.setZero();
+  const int sign_a = surf_a ? A.feature->outward_sign() : 0;
+  const int sign_b = surf_b ? B.feature->outward_sign() : 0;
+  s.outward_a = surf_a ? Vec3(sign_a * s.a.d[0].cross(s.a.d[1])) : Vec3::Zero();
+  s.outward_b = surf_b ? Vec3(sign_b * s.b.d[0].cross(s.b.d[1])) : Vec3::Zero();
+  // Only the normal forms need the unit normal (of their reference surface).
+  Vec3 n = Vec3::Zero(), dn[2];
+  if (form == Formulation::Normal_of_a)
+    unit_normal_and_derivatives(s.a, sign_a, s.outward_a, n, dn);
+  else if (form == Formulation::Normal_of_b)
+    unit_normal_and_derivatives(s.b, sign_b, s.outward_b, n, dn);
 
   if (na == 2 && nb == 2 && form == Formulation::Projection) {
     // Surface-surface in the projection form, the tracker's hot case: the loops below written
@@ -103,9 +100,9 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
         M(2 + k, i) = ab;
       }
   } else {
-    build_general_rows(s, d, form, dn_a, dn_b);
+    build_general_rows(s, d, form, n, dn);
   }
-  add_motion(A, B, s, with_motion);
+  add_motion(A, B, s, with_motion, n);
   if (form == Formulation::Normal_of_a && surf_b && B.feature->collapsed_edges())
     desingularise_pole_rows(*B.feature, params.data() + na, na, s);
   else if (form == Formulation::Normal_of_b && surf_a && A.feature->collapsed_edges())
@@ -114,8 +111,8 @@ void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec
 
 namespace {
 
-void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const Vec3* dn_a,
-                        const Vec3* dn_b) {
+void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const Vec3& n,
+                        const Vec3 (&dn)[2]) {
   const int na = s.na, nb = s.nb;
   s.phi.setZero();
   s.projection.setZero();
@@ -126,9 +123,9 @@ void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const V
   for (int i = 0; i < na; ++i) {
     s.projection[i] = d.dot(s.a.d[i]);
     if (form == Formulation::Normal_of_b) {
-      s.phi[i] = s.normal_b.dot(s.a.d[i]);
-      for (int k = 0; k < na; ++k) s.M(i, k) = s.normal_b.dot(s.a.dd[i][k]);
-      for (int l = 0; l < nb; ++l) s.M(i, na + l) = dn_b[l].dot(s.a.d[i]);
+      s.phi[i] = n.dot(s.a.d[i]);
+      for (int k = 0; k < na; ++k) s.M(i, k) = n.dot(s.a.dd[i][k]);
+      for (int l = 0; l < nb; ++l) s.M(i, na + l) = dn[l].dot(s.a.d[i]);
       continue;
     }
     s.phi[i] = s.projection[i];
@@ -138,9 +135,9 @@ void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const V
   for (int j = 0; j < nb; ++j) {
     s.projection[na + j] = d.dot(s.b.d[j]);
     if (form == Formulation::Normal_of_a) {
-      s.phi[na + j] = s.normal_a.dot(s.b.d[j]);
-      for (int k = 0; k < na; ++k) s.M(na + j, k) = dn_a[k].dot(s.b.d[j]);
-      for (int l = 0; l < nb; ++l) s.M(na + j, na + l) = s.normal_a.dot(s.b.dd[j][l]);
+      s.phi[na + j] = n.dot(s.b.d[j]);
+      for (int k = 0; k < na; ++k) s.M(na + j, k) = dn[k].dot(s.b.d[j]);
+      for (int l = 0; l < nb; ++l) s.M(na + j, na + l) = n.dot(s.b.dd[j][l]);
       continue;
     }
     s.phi[na + j] = s.projection[na + j];
@@ -151,7 +148,7 @@ void build_general_rows(Pair_system& s, const Vec3& d, Formulation form, const V
 }
 
 void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
-                bool with_motion) {
+                bool with_motion, const Vec3& n) {
   const int na = s.na, nb = s.nb;
   const Formulation form = s.form;
   const Vec3& d = s.d;
@@ -170,13 +167,13 @@ void add_motion(const Posed_feature& A, const Posed_feature& B, Pair_system& s,
   const Vec3 va = w + d.cross(wa), vb = w + d.cross(wb);
   for (int i = 0; i < na; ++i) {
     if (form == Formulation::Normal_of_b)
-      s.motion[i] = s.normal_b.dot(wa.cross(s.a.d[i])) + wb.cross(s.normal_b).dot(s.a.d[i]);
+      s.motion[i] = n.dot(wa.cross(s.a.d[i])) + wb.cross(n).dot(s.a.d[i]);
     else
       s.motion[i] = va.dot(s.a.d[i]);
   }
   for (int j = 0; j < nb; ++j) {
     if (form == Formulation::Normal_of_a)
-      s.motion[na + j] = wa.cross(s.normal_a).dot(s.b.d[j]) + s.normal_a.dot(wb.cross(s.b.d[j]));
+      s.motion[na + j] = wa.cross(n).dot(s.b.d[j]) + n.dot(wb.cross(s.b.d[j]));
     else
       s.motion[na + j] = vb.dot(s.b.d[j]);
   }
@@ -220,6 +217,11 @@ void desingularise_pole_rows(const Feature& f, const double* q, int offset, Pair
 }
 
 }  // namespace
+
+Vec3 unit_normal(const Vec3& outward) {
+  const double len = outward.norm();
+  return len > 0.0 ? Vec3(outward / len) : Vec3::Zero();
+}
 
 Vec4 normalised_projection_errors(const Pair_system& s) {
   // All four lanes at once (two packed square roots and divisions on SSE2: this runs every

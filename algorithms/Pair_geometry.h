@@ -33,11 +33,16 @@ struct Pair_system {
   // S M is exactly symmetric (S = +1 on A's rows, -1 on B's): true where the build writes
   // mirrored entries (the surface-surface projection rows), so a solve need not symmetrise.
   bool symmetric_hessian = false;
-  Vec3 normal_a = Vec3::Zero(), normal_b = Vec3::Zero();  // unit outward normals (surfaces)
+  // sign (t_u x t_v) of each surface: outward, not unit (zero for curves and points). The
+  // tracker's step reads only its direction (the distance's sign), so the build takes no square
+  // root or division for it; unit_normal() gives the unit vector.
+  Vec3 outward_a = Vec3::Zero(), outward_b = Vec3::Zero();
   Vec4 projection = Vec4::Zero();  // the seed's projection errors, whatever the form
   Vec4 phi = Vec4::Zero();         // the conditions of `form`
   Mat4 M = Mat4::Identity();       // d phi / d params
   Vec4 motion = Vec4::Zero();      // d phi / dt at fixed parameters (b of the design card)
+  // The knot spans the last build found on each side, where the next build looks first.
+  Span_hint spans_a, spans_b;
 
   int size() const { return na + nb; }
   // Tangent along parameter k (A's first, then B's).
@@ -56,6 +61,9 @@ struct Posed_feature {
 void build_pair_system(const Posed_feature& A, const Posed_feature& B, const Vec4& params,
                        Pair_system& out, bool with_motion = true,
                        Formulation form = Formulation::Projection);
+
+// outward / |outward|, zero where it vanishes (a pole, or no surface).
+Vec3 unit_normal(const Vec3& outward);
 
 // Seed's normalised projection errors Phi_k / (|d| |tangent_k|); zero where undefined.
 Vec4 normalised_projection_errors(const Pair_system& s);

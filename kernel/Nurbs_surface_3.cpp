@@ -300,9 +300,9 @@ void Nurbs_surface_3::evaluate_placed(double u, double v, const Mat3& rotation,
 
 void Nurbs_surface_3::evaluate_placed_rows(double u, double v, const Mat3& rotation,
                                            const Vec3& translation, double (&rows)[6][4],
-                                           int order) const {
+                                           int order, Span_hint* hint) const {
   Surface_point sp{Surface_point::Unset{}};
-  if (evaluate_in_frame(u, v, rotation.data(), translation.data(), sp, order, &rows[0][0]))
+  if (evaluate_in_frame(u, v, rotation.data(), translation.data(), sp, order, &rows[0][0], hint))
     return;
   // The portable path filled sp.
   const Vec3* in[6] = {&sp.p, &sp.du, &sp.dv, &sp.duu, &sp.duv, &sp.dvv};
@@ -311,18 +311,31 @@ void Nurbs_surface_3::evaluate_placed_rows(double u, double v, const Mat3& rotat
 }
 
 bool Nurbs_surface_3::evaluate_in_frame(double u, double v, const double* R, const double* t,
-                                        Surface_point& out, int order, double* rows) const {
-  EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
-                            "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
-  EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
-                            "v = " << v << " outside [" << v_min() << ", " << v_max() << "]");
+                                        Surface_point& out, int order, double* rows,
+                                        Span_hint* hint) const {
   EXTREMAL_PRECONDITION(order >= 0 && order <= 2);
   const int p = m_degree_u, q = m_degree_v;
-  const int su = internal::find_span(m_knots_u.data(), m_n_u, p, u);
-  const int sv = internal::find_span(m_knots_v.data(), m_n_v, q, v);
-  const Eigen::Vector4d* hom = m_hom.data();
   const double* ku = m_knots_u.data();
   const double* kv = m_knots_v.data();
+  // Inside the hinted spans (half-open, so the same spans find_span returns) the parameters are
+  // in the domain: the checks and the search are done.
+  const auto in_span = [](const double* knots, int n, int deg, int k, double t) {
+    return k >= deg && k < n && knots[k] <= t && t < knots[k + 1];
+  };
+  int su, sv;
+  if (hint != nullptr && in_span(ku, m_n_u, p, hint->u, u) && in_span(kv, m_n_v, q, hint->v, v)) {
+    su = hint->u;
+    sv = hint->v;
+  } else {
+    EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
+                              "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");
+    EXTREMAL_PRECONDITION_MSG(v >= v_min() && v <= v_max(),
+                              "v = " << v << " outside [" << v_min() << ", " << v_max() << "]");
+    su = internal::find_span(ku, m_n_u, p, u);
+    sv = internal::find_span(kv, m_n_v, q, v);
+    if (hint != nullptr) *hint = {su, sv};
+  }
+  const Eigen::Vector4d* hom = m_hom.data();
   const internal::Simd_kernels& fast = internal::fast_kernels();
   switch (order) {
     case 0:

@@ -29,6 +29,11 @@ struct Surface_point {
 
 enum class Parameter_direction { U, V };
 
+// The knot spans (indices of their first knots) an evaluation found, for the next one near it.
+struct Span_hint {
+  int u = -1, v = -1;
+};
+
 class Nurbs_surface_3 {
  public:
   // Control points in row-major order: pole (i, j), i along u (0..n_u-1), j along v, is
@@ -78,8 +83,12 @@ class Nurbs_surface_3 {
   // The same values as rows of four doubles: p, du, dv, duu, duv, dvv (lane 3 unspecified, rows
   // above `order` untouched). For a caller with its own layout (the tracker's feature points):
   // the fast kernel writes the rows directly, one copy fewer on the tracker's hot path.
+  // `hint`, when given, holds the knot spans the caller's last evaluation found and receives
+  // this one's: a tracker moves by small steps and mostly stays in its spans, where the span
+  // search and the domain checks are skipped (a stale or foreign hint only costs the search).
   void evaluate_placed_rows(double u, double v, const Mat3& rotation, const Vec3& translation,
-                            double (&rows)[6][4], int order = 2) const;
+                            double (&rows)[6][4], int order = 2,
+                            Span_hint* hint = nullptr) const;
   Point_3 point(double u, double v) const;
   // Unit outward normal (f_u x f_v times outward_sign); zero where f_u x f_v vanishes, that is
   // falls below 1e-12 |coordinates| size / (u width * v width), the level rounding leaves at
@@ -99,7 +108,7 @@ class Nurbs_surface_3 {
   // R (column-major 3 x 3) and t, or both nullptr for the patch's own frame. When `rows` is
   // not null and the placed fast kernel runs, it writes there instead of `out` (returns true).
   bool evaluate_in_frame(double u, double v, const double* R, const double* t, Surface_point& out,
-                         int order, double* rows = nullptr) const;
+                         int order, double* rows = nullptr, Span_hint* hint = nullptr) const;
 
   int m_degree_u, m_degree_v;
   int m_n_u, m_n_v;

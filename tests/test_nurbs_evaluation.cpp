@@ -4,12 +4,14 @@
 // domain ends included.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "kernel/Error.h"
 #include "kernel/Nurbs_curve_3.h"
 #include "kernel/Nurbs_surface_3.h"
 #include "kernel/Rigid_pose_3.h"
@@ -735,6 +737,62 @@ TEST(Evaluation, PiecesMeetAtKnotsAndEnds) {
       b.evaluate(i / 3.0, j / 3.0, c, 2);
       EXPECT_LE((c.p - to_vec3(b.pole(i, j))).norm(), 1e-15 * 4) << i << ", " << j;
     }
+}
+
+// A span hint (the tracker's: the spans of its last evaluation) must give exactly the values of
+// the span search, in particular at a knot, where the search takes the span to its right: a C0
+// knot (double interior knot) makes the two sides' derivatives differ, so a hint kept across it
+// would show. Hints from another patch or stale ones only cost the search.
+TEST(Evaluation, SpanHintGivesTheValuesOfTheSearch) {
+  EXTREMAL_SEEDED_RNG(rng);
+  const int p = 2, q = 3, nu = 9, nv = 7;
+  const std::vector<double> ku = {0, 0, 0, 0.2, 0.4, 0.5, 0.5, 0.7, 0.85, 1, 1, 1};  // C0 at 0.5
+  const Nurbs_surface_3 s(p, q, nu, nv, random_poles(rng, nu * nv), ku,
+                          random_unclamped_knots(rng, q, nv, -1.0, 0.4, 0.3),
+                          random_weights(rng, nu * nv, 0.2, 5.0));
+  ASSERT_EQ(s.knots_u()[5], s.knots_u()[6]);
+  const Rigid_pose_3 X = Rigid_pose_3::from_quaternion(Vec3(1.0, -2.0, 0.5), 0.9, 0.2, -0.3, 0.1);
+  std::vector<double> us, vs;
+  for (double k : s.knots_u())
+    if (k >= s.u_min() && k <= s.u_max()) us.insert(us.end(), {k, std::nextafter(k, -1.0)});
+  for (double k : s.knots_v())
+    if (k >= s.v_min() && k <= s.v_max()) vs.insert(vs.end(), {k, std::nextafter(k, 1e9)});
+  for (int i = 0; i < 40; ++i) {
+    us.push_back(uniform(rng, s.u_min(), s.u_max()));
+    vs.push_back(uniform(rng, s.v_min(), s.v_max()));
+  }
+  const auto in_domain = [&](double u, double v) {
+    return u >= s.u_min() && u <= s.u_max() && v >= s.v_min() && v <= s.v_max();
+  };
+  // A hint carried through parameters in order and out of order, and one from a patch with more
+  // spans than this one has.
+  for (Span_hint start : {Span_hint{}, Span_hint{11, 9}, Span_hint{4, 4}}) {
+    Span_hint hint = start;
+    for (int pass = 0; pass < 2; ++pass) {
+      if (pass == 1) std::shuffle(us.begin(), us.end(), rng);
+      for (double u : us)
+        for (double v : vs) {
+          if (!in_domain(u, v)) continue;
+          double with[6][4], without[6][4];
+          s.evaluate_placed_rows(u, v, X.rotation(), X.translation(), with, 2, &hint);
+          s.evaluate_placed_rows(u, v, X.rotation(), X.translation(), without, 2);
+          for (int r = 0; r < 6; ++r)
+            for (int c = 0; c < 3; ++c)
+              ASSERT_EQ(with[r][c], without[r][c]) << "u = " << u << ", v = " << v << ", row " << r;
+          EXPECT_TRUE(s.knots_u()[hint.u] <= u && s.knots_v()[hint.v] <= v);
+        }
+    }
+  }
+  // The hint never waives the domain check.
+  Span_hint hint;
+  double rows[6][4];
+  s.evaluate_placed_rows(0.1, s.v_min(), X.rotation(), X.translation(), rows, 2, &hint);
+  EXPECT_THROW(s.evaluate_placed_rows(-0.1, s.v_min(), X.rotation(), X.translation(), rows, 2,
+                                      &hint),
+               Precondition_violation);
+  EXPECT_THROW(s.evaluate_placed_rows(std::nan(""), s.v_min(), X.rotation(), X.translation(),
+                                      rows, 2, &hint),
+               Precondition_violation);
 }
 
 TEST(Evaluation, PointAgreesWithEvaluate) {
