@@ -139,11 +139,14 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
                       choose_form());
   }
   const int n = m_system.size();
-  Vec4 rhs = Vec4::Zero();
-  for (int k = 0; k < n; ++k) {
-    // gain_dt > 0: the step's dt with the configured gains; a correction uses K dt = 1.
-    const double Kdt = m_options.gain[k] > 0.0 && moving ? m_options.gain[k] * gain_dt : 1.0;
-    rhs[k] = -Kdt * m_system.phi[k] - (moving ? gain_dt * m_system.motion[k] : 0.0);
+  // gain_dt > 0: the step's dt with the configured gains; a correction uses K dt = 1. The lanes
+  // past n stay zero (phi and the motion are zero there).
+  Vec4 rhs;
+  if (moving) {
+    const Vec4 Kdt = (m_options.gain.array() > 0.0).select(m_options.gain * gain_dt, Vec4::Ones());
+    rhs = -Kdt.cwiseProduct(m_system.phi) - gain_dt * m_system.motion;
+  } else {
+    rhs = -m_system.phi;
   }
   // rhs is the parameter change over the step (U dt); U follows by dividing by dt.
   Vec4 p = params;
@@ -168,8 +171,10 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
     if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) U.setZero();
   }
   double scale = 1.0;
-  for (int k = 0; k < n; ++k)
-    if (std::abs(U[k]) > m_max_change[k]) scale = std::min(scale, m_max_change[k] / std::abs(U[k]));
+  if ((U.cwiseAbs().array() > m_max_change.array()).any())  // rare: far from the pair
+    for (int k = 0; k < n; ++k)
+      if (std::abs(U[k]) > m_max_change[k])
+        scale = std::min(scale, m_max_change[k] / std::abs(U[k]));
   U *= scale / gain_dt;
 }
 
