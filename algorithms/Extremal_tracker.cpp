@@ -98,12 +98,23 @@ double Extremal_tracker::signed_distance(unsigned on_edge) const {
   // Inside when d points against the reference face's outward normal at an interior point of
   // the face. On a face edge the normal says nothing about the solid (beside a cylinder's cap
   // rim, say, d points below the cap's plane while the bodies are apart): positive there.
+  // The outward cross product stands for the unit normal (the sign is all that is read); one
+  // whose squared length underflows or overflows has no direction, as the unit normal had none.
+  const auto has_direction = [](const Vec3& m) {
+    const double m2 = m.squaredNorm();
+    return m2 > 0.0 && m2 < HUGE_VAL;
+  };
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = m_system.distance;  // |ab| = |d|
-  if (m_a.dimension() == 2)
-    return ab.dot(m_system.outward_a) < 0.0 && !(on_edge & 3u) ? -len : len;
-  if (m_b.dimension() == 2)
-    return ab.dot(m_system.outward_b) > 0.0 && !((on_edge >> m_a.dimension()) & 3u) ? -len : len;
+  if (m_a.dimension() == 2) {
+    const Vec3& m = m_system.outward_a;
+    return ab.dot(m) < 0.0 && !(on_edge & 3u) && has_direction(m) ? -len : len;
+  }
+  if (m_b.dimension() == 2) {
+    const Vec3& m = m_system.outward_b;
+    return ab.dot(m) > 0.0 && !((on_edge >> m_a.dimension()) & 3u) && has_direction(m) ? -len
+                                                                                        : len;
+  }
   return len;
 }
 
@@ -140,7 +151,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   }
   const int n = m_system.size();
   // gain_dt > 0: the step's dt with the configured gains; a correction uses K dt = 1. The lanes
-  // past n stay zero (phi and the motion are zero there).
+  // past n stay zero, of either sign (phi and the motion are zero there, M the identity).
   Vec4 rhs;
   if (moving) {
     const Vec4 Kdt = (m_options.gain.array() > 0.0).select(m_options.gain * gain_dt, Vec4::Ones());

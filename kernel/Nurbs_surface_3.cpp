@@ -322,10 +322,11 @@ bool Nurbs_surface_3::evaluate_in_frame(double u, double v, const double* R, con
   const auto in_span = [](const double* knots, int n, int deg, int k, double t) {
     return k >= deg && k < n && knots[k] <= t && t < knots[k + 1];
   };
+  const Span_hint given = hint != nullptr ? *hint : Span_hint{};
   int su, sv;
-  if (hint != nullptr && in_span(ku, m_n_u, p, hint->u, u) && in_span(kv, m_n_v, q, hint->v, v)) {
-    su = hint->u;
-    sv = hint->v;
+  if (in_span(ku, m_n_u, p, given.u, u) && in_span(kv, m_n_v, q, given.v, v)) {
+    su = given.u;
+    sv = given.v;
   } else {
     EXTREMAL_PRECONDITION_MSG(u >= u_min() && u <= u_max(),
                               "u = " << u << " outside [" << u_min() << ", " << u_max() << "]");

@@ -107,6 +107,7 @@ class Nurbs_surface_3 {
  private:
   // R (column-major 3 x 3) and t, or both nullptr for the patch's own frame. When `rows` is
   // not null and the placed fast kernel runs, it writes there instead of `out` (returns true).
+  // `hint` as in evaluate_placed_rows (may be null).
   bool evaluate_in_frame(double u, double v, const double* R, const double* t, Surface_point& out,
                          int order, double* rows = nullptr, Span_hint* hint = nullptr) const;
 

@@ -85,6 +85,29 @@ TEST(ExtremalTracker, AtRestEqualsNewtonSolveFromPoorStarts) {
   }
 }
 
+// At distance zero the result's normal is no longer (b - a) / |b - a| but the reference
+// surface's unit outward normal (A's, else minus B's): the system keeps that normal unnormalised
+// (Pair_system::outward_a), so a missed normalisation shows here as a normal of length 16.
+TEST(ExtremalTracker, AtZeroDistanceTheNormalIsTheUnitOutwardNormal) {
+  Nurbs_surface_3 plane = make_plane(4, 4);  // outward +z, |t_u x t_v| = 16
+  Nurbs_surface_3 inward = make_plane(4, 4);
+  inward.set_outward_sign(-1);
+  const Rigid_pose_3 X;
+  const Vec4 centre(0.5, 0.5, 0.5, 0.5);
+  for (const Nurbs_surface_3* a : {&plane, &inward}) {
+    const Feature A = Feature::surface(*a), B = Feature::surface(plane);
+    Extremal_tracker tracker(A, B, centre, Tracker_options::with_gain(1.0));
+    const Track_result& r = tracker.evaluate(0.0, X, X);
+    EXPECT_EQ(r.distance, 0.0);
+    EXPECT_EQ(r.normal, Vec3(0, 0, a->outward_sign()));
+  }
+  const Feature P = Feature::point(Vec3::Zero()), B = Feature::surface(plane);
+  Extremal_tracker tracker(P, B, Vec4(0.5, 0.5, 0, 0), Tracker_options::with_gain(1.0));
+  const Track_result& r = tracker.evaluate(0.0, X, X);
+  EXPECT_EQ(r.distance, 0.0);
+  EXPECT_EQ(r.normal, Vec3(0, 0, -1));
+}
+
 TEST(ExtremalTracker, EveryPairKindTracksAMovingPair) {
   // Curve (a rational circle), surface (a torus), point: each pair tracked under motion stays
   // stationary (normalised errors small) and agrees with Newton at rest at sampled times.

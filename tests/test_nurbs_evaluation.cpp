@@ -783,16 +783,24 @@ TEST(Evaluation, SpanHintGivesTheValuesOfTheSearch) {
         }
     }
   }
-  // The hint never waives the domain check.
-  Span_hint hint;
+  // The hint never waives the domain check, on either parameter, at either end, nor for the
+  // spans before the domain of an unclamped knot vector.
+  const double u_in = 0.1, v_in = 0.5 * (s.v_min() + s.v_max());
+  // Inside the knot span before v_min where it is not empty (so a hint on it would match).
+  const double before = s.knots_v()[q - 1];
+  const double below_v = before < s.v_min() ? 0.5 * (before + s.v_min()) : s.v_min() - 0.1;
   double rows[6][4];
-  s.evaluate_placed_rows(0.1, s.v_min(), X.rotation(), X.translation(), rows, 2, &hint);
-  EXPECT_THROW(s.evaluate_placed_rows(-0.1, s.v_min(), X.rotation(), X.translation(), rows, 2,
-                                      &hint),
-               Precondition_violation);
-  EXPECT_THROW(s.evaluate_placed_rows(std::nan(""), s.v_min(), X.rotation(), X.translation(),
-                                      rows, 2, &hint),
-               Precondition_violation);
+  for (Span_hint start : {Span_hint{}, Span_hint{2, q - 1}}) {
+    for (auto [u, v] : {std::pair{-0.1, v_in}, {1.1, v_in}, {std::nan(""), v_in},
+                        {u_in, s.v_max() + 1.0}, {u_in, below_v}, {u_in, std::nan("")}}) {
+      Span_hint hint = start;
+      s.evaluate_placed_rows(u_in, v_in, X.rotation(), X.translation(), rows, 2, &hint);
+      if (start.v == q - 1) hint.v = q - 1;  // a span before v_min: in the knots, not the domain
+      EXPECT_THROW(s.evaluate_placed_rows(u, v, X.rotation(), X.translation(), rows, 2, &hint),
+                   Precondition_violation)
+          << "u = " << u << ", v = " << v;
+    }
+  }
 }
 
 TEST(Evaluation, PointAgreesWithEvaluate) {
