@@ -150,7 +150,10 @@ int run_signed(const Distance_options& options, const std::vector<Body>& bodies_
     }
   Signed_distance_result& r = best;
   r.lower_bound = std::min(r.lower_bound, lower);
-  if (!all_certified && r.is_certified()) r.status = Signed_distance_status::Budget_exhausted;
+  // The sets' distance lies in [the smallest lower bound, the best upper bound]: a pair that ran
+  // out of budget leaves it uncertified only when its lower bound opens that gap.
+  if (!all_certified && r.is_certified() && r.upper_bound - r.lower_bound > r.tolerance_used)
+    r.status = Signed_distance_status::Budget_exhausted;
   const bool overlapping = r.overlap != Overlap_kind::None;
 
   nlohmann::json j =
@@ -236,7 +239,9 @@ int run_distance(const Distance_options& options) {
       }
     Distance_result r = best.result;
     r.lower_bound = std::min(r.lower_bound, best.lower);
-    if (!best.all_certified && r.is_certified()) r.status = Distance_status::Budget_exhausted;
+    // As in run_signed: bodies that meet (upper bound 0) are certified whatever the other pairs.
+    if (!best.all_certified && r.is_certified() && r.upper_bound - r.lower_bound > r.tolerance_used)
+      r.status = Distance_status::Budget_exhausted;
 
     nlohmann::json j = result_json(r, bodies_a[best.body_a].name, bodies_b[best.body_b].name,
                                    options.tolerance);

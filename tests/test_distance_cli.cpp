@@ -170,6 +170,24 @@ TEST(DistanceCli, SignedStepPartWithAShapeThroughIt) {
   EXPECT_GE(j["upper_bound"].get<double>(), truth - 1e-12);
 }
 
+// OCC22459-TEST2.stp holds three open sheets of ruled B-spline faces (about 3.4 x 1.8 x 1.7 m).
+// The file against itself moved by (3, 1, -2) mm: the first sheet meets its copy, so the
+// distance is exactly 0 and certified, although the third sheet against its own copy (nearly
+// parallel, 2.7 mm apart over a metre) runs out of the solver's node budget; a pair whose lower
+// bound stays at or above the answer cannot change it. The CLI called this budget_exhausted.
+TEST(DistanceCli, SetsThatMeetAreCertifiedWhateverTheOtherPairs) {
+  const std::string file = std::string(EXTREMAL_SHARED_DATA) + "/step/OCC22459-TEST2.stp";
+  const Cli_run r = run("distance " + file + " " + file + " --pose-b 3,1,-2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["status"], "intersecting");
+  EXPECT_EQ(j["certified"], true);
+  EXPECT_EQ(j["distance"].get<double>(), 0.0);
+  EXPECT_EQ(j["lower_bound"].get<double>(), 0.0);
+  EXPECT_EQ(j["upper_bound"].get<double>(), 0.0);
+  EXPECT_EQ(j["body_a"], "COMPOUND#1");
+}
+
 // pr2ct.stp is a closed 200 mm box [0, 200]^3 (six trimmed planar faces): a ball of radius 30
 // at its centre is inside it with surfaces 70 mm apart (b_inside_a, found by the winding
 // number), and leaves the box's hull after 100 + 30 mm along any axis; a ball through its
