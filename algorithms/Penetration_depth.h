@@ -70,6 +70,7 @@
 #include <string>
 
 #include "algorithms/Global_distance.h"
+#include "algorithms/Solid_classification.h"
 #include "kernel/Body.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"
@@ -98,29 +99,6 @@ struct Support_bound {
 // Bounds on the support function h(n) = max over the placed body of n.x, n a unit world vector.
 [[nodiscard]] Support_bound support_bound(const Distance_hierarchy& H, const Rigid_pose_3& X_W,
                                           const Vec3& n_W, const Support_request& request = {});
-
-// ---- Closedness and containment --------------------------------------------------------------
-
-struct Closedness {
-  bool closed = false;
-  std::string reason;  // why not (or how it was decided)
-};
-Closedness body_closedness(const Body& body);
-
-// Cheaply certified convex: a point body, or one untrimmed sphere or ellipsoid face.
-bool is_certified_convex(const Body& body);
-
-struct Winding_number {
-  double value = 0.0;      // the quadrature's value
-  bool determined = false;  // within 0.25 of an integer, and the refinement finished
-  long cells = 0;           // quadrature cells
-  bool inside() const { return determined && std::abs(value) > 0.5; }
-};
-
-// Winding number of the faces of H (placed by X_W) about the world point x_W, which must lie at
-// least `clearance` > 0 from them (a certified distance lower bound).
-[[nodiscard]] Winding_number winding_number(const Distance_hierarchy& H, const Rigid_pose_3& X_W,
-                                            const Vec3& x_W, double clearance);
 
 // ---- Signed distance --------------------------------------------------------------------------
 
