@@ -4,6 +4,7 @@
 // BREP, OBJ, meshes); a file that holds several bodies counts as the union of all its bodies (the
 // JSON `body_a` / `body_b` names the body the witness lies on), each body placed by its file
 // placement composed with --pose-a / --pose-b.
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -13,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "algorithms/Body_pair_tracker.h"
 #include "algorithms/Global_distance.h"
 #include "algorithms/Penetration_depth.h"
 #include "cli/Commands.h"
@@ -225,18 +227,44 @@ int run_distance(const Distance_options& options) {
     request.max_seconds = 60.0;
     Distance_workspace ws;
     Best best;
+    // Files of several bodies (assemblies): the body pairs nearest by their boxes first, each
+    // query cut off at the best distance so far, and pairs whose boxes are already that far
+    // apart not queried (their box distance is their lower bound). The answer is the one the
+    // full loop gives; ties keep the first pair in file order.
+    struct Body_pair {
+      double box_gap;
+      std::size_t a, b;
+    };
+    std::vector<Body_pair> order;
     for (std::size_t i = 0; i < ha.size(); ++i)
-      for (std::size_t j = 0; j < hb.size(); ++j) {
-        const Distance_result r = extremal_distance(ha[i], poses_a[i], hb[j], poses_b[j], request, ws);
-        best.lower = std::min(best.lower, r.lower_bound);
-        best.all_certified = best.all_certified && r.is_certified();
-        if (!best.any || r.upper_bound < best.result.upper_bound) {
-          best.result = r;
-          best.body_a = i;
-          best.body_b = j;
-          best.any = true;
-        }
+      for (std::size_t j = 0; j < hb.size(); ++j)
+        order.push_back({box_distance(transformed(ha[i].box(), poses_a[i]),
+                                      transformed(hb[j].box(), poses_b[j])),
+                         i, j});
+    std::stable_sort(order.begin(), order.end(),
+                     [](const Body_pair& x, const Body_pair& y) { return x.box_gap < y.box_gap; });
+    for (const Body_pair& pair : order) {
+      const std::size_t i = pair.a, j = pair.b;
+      const bool earlier = !best.any || std::make_pair(i, j) < std::make_pair(best.body_a, best.body_b);
+      if (best.any && (pair.box_gap > best.result.upper_bound ||
+                       (pair.box_gap == best.result.upper_bound && !earlier))) {
+        best.lower = std::min(best.lower, pair.box_gap);
+        continue;
       }
+      Distance_request cut = request;
+      if (best.any) cut.cutoff = best.result.upper_bound;
+      const Distance_result r = extremal_distance(ha[i], poses_a[i], hb[j], poses_b[j], cut, ws);
+      best.lower = std::min(best.lower, r.lower_bound);
+      best.all_certified = best.all_certified && r.is_certified();
+      if (r.element_a < 0) continue;  // nothing below the cutoff
+      if (!best.any || r.upper_bound < best.result.upper_bound ||
+          (r.upper_bound == best.result.upper_bound && earlier)) {
+        best.result = r;
+        best.body_a = i;
+        best.body_b = j;
+        best.any = true;
+      }
+    }
     Distance_result r = best.result;
     r.lower_bound = std::min(r.lower_bound, best.lower);
     // As in run_signed: bodies that meet (upper bound 0) are certified whatever the other pairs.

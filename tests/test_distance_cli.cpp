@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -186,6 +187,30 @@ TEST(DistanceCli, SetsThatMeetAreCertifiedWhateverTheOtherPairs) {
   EXPECT_EQ(j["lower_bound"].get<double>(), 0.0);
   EXPECT_EQ(j["upper_bound"].get<double>(), 0.0);
   EXPECT_EQ(j["body_a"], "COMPOUND#1");
+}
+
+// The body pairs of a file are queried nearest box first, each cut off at the best distance so
+// far, and pairs whose boxes lie beyond it are skipped: the answer must be the nearest body
+// whatever the boxes say. bug24283_spheres.stp holds two unit spheres, NAUO1 at the origin and
+// NAUO2 at c2 (the middle of its box). At (-1.7, 3, 2) a ball of radius 0.5 has NAUO1's box
+// nearer (1.59 against 1.75) but NAUO2's sphere nearer (2.34 against 2.49); at (2.5, -0.5, 0.3)
+// NAUO1 is nearer by both, and NAUO2's box lies beyond the answer.
+TEST(DistanceCli, TheNearestBodyOfAFileWinsWhateverItsBox) {
+  const std::string file = std::string(EXTREMAL_SHARED_DATA) + "/step/bug24283_spheres.stp";
+  const Vec3 c2(-0.11847810259174475, 1.6863172135334625, -1.2439655293919430);
+  for (const auto& [at, nearest] : {std::pair{Vec3(-1.7, 3.0, 2.0), "NAUO2"},
+                                    std::pair{Vec3(2.5, -0.5, 0.3), "NAUO1"}}) {
+    std::ostringstream pose;
+    pose << std::setprecision(17) << at.x() << "," << at.y() << "," << at.z();
+    const Cli_run r = run("distance " + file + " sphere:0.5 --pose-b " + pose.str() + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const double truth = std::min(at.norm(), (at - c2).norm()) - 1.5;
+    EXPECT_EQ(j["status"], "converged");
+    EXPECT_EQ(j["body_a"], nearest) << at.transpose();
+    EXPECT_NEAR(j["distance"].get<double>(), truth, 1e-9) << at.transpose();
+    EXPECT_LE(j["lower_bound"].get<double>(), truth + 1e-12);
+  }
 }
 
 // pr2ct.stp is a closed 200 mm box [0, 200]^3 (six trimmed planar faces): a ball of radius 30
