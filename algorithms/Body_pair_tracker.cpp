@@ -31,15 +31,6 @@ std::vector<Feature> features_of(const Body& body) {
   return f;
 }
 
-double box_distance(const Bbox_3& a, const Bbox_3& b) {
-  double s = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    const double gap = std::max(a.min(i) - b.max(i), b.min(i) - a.max(i));
-    if (gap > 0.0) s += gap * gap;
-  }
-  return std::sqrt(s);
-}
-
 namespace {
 
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,

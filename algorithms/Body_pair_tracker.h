@@ -335,7 +335,4 @@ class Body_pair_tracker {
 // The features of a body: its faces, then its curves; a point body is its origin.
 std::vector<Feature> features_of(const Body& body);
 
-// Lower bound on the distance between two boxes (0 if they overlap).
-double box_distance(const Bbox_3& a, const Bbox_3& b);
-
 }  // namespace extremal

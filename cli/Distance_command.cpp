@@ -14,7 +14,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "algorithms/Body_pair_tracker.h"
 #include "algorithms/Global_distance.h"
 #include "algorithms/Penetration_depth.h"
 #include "cli/Commands.h"
@@ -229,8 +228,10 @@ int run_distance(const Distance_options& options) {
     Best best;
     // Files of several bodies (assemblies): the body pairs nearest by their boxes first, each
     // query cut off at the best distance so far, and pairs whose boxes are already that far
-    // apart not queried (their box distance is their lower bound). The answer is the one the
-    // full loop gives; ties keep the first pair in file order.
+    // apart not queried (their box distance is their lower bound). The distance is the one the
+    // full loop gives; of pairs at exactly the same distance the one queried first is reported
+    // (the cutoff prunes the others), which for bodies that meet (box distance 0, the sort
+    // stable) is the first in file order.
     struct Body_pair {
       double box_gap;
       std::size_t a, b;
@@ -245,9 +246,7 @@ int run_distance(const Distance_options& options) {
                      [](const Body_pair& x, const Body_pair& y) { return x.box_gap < y.box_gap; });
     for (const Body_pair& pair : order) {
       const std::size_t i = pair.a, j = pair.b;
-      const bool earlier = !best.any || std::make_pair(i, j) < std::make_pair(best.body_a, best.body_b);
-      if (best.any && (pair.box_gap > best.result.upper_bound ||
-                       (pair.box_gap == best.result.upper_bound && !earlier))) {
+      if (best.any && pair.box_gap >= best.result.upper_bound) {
         best.lower = std::min(best.lower, pair.box_gap);
         continue;
       }
@@ -257,8 +256,7 @@ int run_distance(const Distance_options& options) {
       best.lower = std::min(best.lower, r.lower_bound);
       best.all_certified = best.all_certified && r.is_certified();
       if (r.element_a < 0) continue;  // nothing below the cutoff
-      if (!best.any || r.upper_bound < best.result.upper_bound ||
-          (r.upper_bound == best.result.upper_bound && earlier)) {
+      if (!best.any || r.upper_bound < best.result.upper_bound) {
         best.result = r;
         best.body_a = i;
         best.body_b = j;

@@ -2,6 +2,9 @@
 // hot loops use fixed-size Eigen vectors, which is what Vec3 is for.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include <CGAL/Bbox_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <Eigen/Core>
@@ -21,5 +24,16 @@ inline Vec3 to_vec3(const Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
 inline Vec3 to_vec3(const Vector_3& v) { return Vec3(v.x(), v.y(), v.z()); }
 inline Point_3 to_point(const Vec3& v) { return Point_3(v.x(), v.y(), v.z()); }
 inline Vector_3 to_vector(const Vec3& v) { return Vector_3(v.x(), v.y(), v.z()); }
+
+// Euclidean distance between two boxes (0 if they overlap): a lower bound on the distance
+// between anything they hold.
+inline double box_distance(const Bbox_3& a, const Bbox_3& b) {
+  double s = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double gap = std::max(a.min(i) - b.max(i), b.min(i) - a.max(i));
+    if (gap > 0.0) s += gap * gap;
+  }
+  return std::sqrt(s);
+}
 
 }  // namespace extremal
