@@ -33,7 +33,9 @@
 // One-off certified distance between two posed bodies: extremal::extremal_distance
 // (algorithms/Global_distance.h), with bounds lower <= distance <= upper; signed (penetration
 // depth while the bodies overlap, with bounds too): extremal::signed_distance
-// (algorithms/Penetration_depth.h). Scene files as the command line reads them:
+// (algorithms/Penetration_depth.h); between two sets of bodies (an assembly, a multi-solid
+// file), nearest pairs first: extremal::set_distance, extremal::signed_set_distance
+// (algorithms/Set_distance.h). Scene files as the command line reads them:
 // extremal::io::read_scene (io/Scene.h) with extremal::io::load_bodies as the file loader.
 //
 // Headers by layer, each usable on its own: kernel/ (geometry: NURBS, bodies, shapes, poses,
@@ -57,3 +59,4 @@
 #include "algorithms/Global_distance.h"
 #include "algorithms/Penetration_depth.h"
 #include "algorithms/Scene_stepper.h"
+#include "algorithms/Set_distance.h"

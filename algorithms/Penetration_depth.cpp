@@ -857,6 +857,15 @@ Signed_distance_status from_distance_status(Distance_status s) {
 
 }  // namespace
 
+double signed_box_bound(const Bbox_3& a, const Bbox_3& b) {
+  const double apart = box_distance(a, b);
+  if (apart > 0.0) return apart;
+  double overlap = HUGE_VAL;
+  for (int k = 0; k < 3; ++k)
+    overlap = std::min({overlap, a.max(k) - b.min(k), b.max(k) - a.min(k)});
+  return -overlap;
+}
+
 Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& HA,
                                        const Rigid_pose_3& X_WA, const Body& B,
                                        const Distance_hierarchy& HB, const Rigid_pose_3& X_WB,
@@ -909,6 +918,11 @@ Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& 
     out.params_a = r.params_a;
     out.params_b = r.params_b;
     out.tolerance_used = r.tolerance_used;
+    // Containment undecided, or an apart query that stopped before it showed the surfaces
+    // apart: the bodies may overlap, and only their boxes bound s from below.
+    if (unknown || (!out.is_certified() && !(r.lower_bound > 0.0)))
+      out.lower_bound = std::min(out.lower_bound, signed_box_bound(transformed(HA.box(), X_WA),
+                                                                   transformed(HB.box(), X_WB)));
   } else {
     out = hull_signed_distance(HA, X_WA, HB, X_WB, request);
     out.depth_is_translation_distance = is_certified_convex(A) && is_certified_convex(B);

@@ -176,4 +176,9 @@ struct Signed_distance_result {
                                                           const Rigid_pose_3& X_WB,
                                                           const Signed_distance_request& request = {});
 
+// A lower bound on the signed distance of two bodies inside these world boxes: their distance
+// when apart, else minus the smallest overlap along a coordinate axis (overlap(n) of the hulls
+// is at most that of the boxes along it, so the depth is at most it).
+[[nodiscard]] double signed_box_bound(const Bbox_3& a, const Bbox_3& b);
+
 }  // namespace extremal

@@ -16,6 +16,7 @@
 
 #include "algorithms/Global_distance.h"
 #include "algorithms/Penetration_depth.h"
+#include "algorithms/Set_distance.h"
 #include "cli/Commands.h"
 #include "io/Model_reader.h"
 #include "io/Shape_spec.h"
@@ -112,49 +113,22 @@ void print_distance_line(const Result& r) {
             << " <= d <= " << r.upper_bound << ")\n";
 }
 
-struct Best {
-  Distance_result result;
-  std::size_t body_a = 0, body_b = 0;
-  double lower = HUGE_VAL;  // smallest lower bound over all body pairs
-  bool any = false;
-  bool all_certified = true;
-};
+// The whole query's time: a file of many bodies gets this much in all, not per body pair.
+constexpr double k_max_seconds = 60.0;
 
-// --signed: the signed distance of every body pair; the smallest (the deepest penetration, or
-// the closest pair when none overlaps) is reported, with the smallest lower bound of all.
+// --signed: the smallest signed distance over the body pairs (the deepest penetration, or the
+// closest pair when none overlaps), with the smallest lower bound of all (Set_distance.h).
 int run_signed(const Distance_options& options, const std::vector<Body>& bodies_a,
-               const std::vector<Body>& bodies_b, const std::vector<Distance_hierarchy>& ha,
-               const std::vector<Distance_hierarchy>& hb, const std::vector<Rigid_pose_3>& poses_a,
-               const std::vector<Rigid_pose_3>& poses_b) {
+               const std::vector<Body>& bodies_b, const std::vector<Placed_body>& set_a,
+               const std::vector<Placed_body>& set_b) {
   Signed_distance_request request;
   request.absolute_tolerance = options.tolerance;
   request.relative_tolerance = 0.0;
   if (options.max_cells > 0) request.max_cells = options.max_cells;
-  request.max_seconds = 60.0;
-  request.apart.max_seconds = 60.0;
-  Signed_distance_result best;
-  std::size_t best_a = 0, best_b = 0;
-  double lower = HUGE_VAL;
-  bool any = false, all_certified = true;
-  for (std::size_t i = 0; i < ha.size(); ++i)
-    for (std::size_t j = 0; j < hb.size(); ++j) {
-      const Signed_distance_result r =
-          signed_distance(bodies_a[i], ha[i], poses_a[i], bodies_b[j], hb[j], poses_b[j], request);
-      lower = std::min(lower, r.lower_bound);
-      all_certified = all_certified && r.is_certified();
-      if (!any || r.upper_bound < best.upper_bound) {
-        best = r;
-        best_a = i;
-        best_b = j;
-        any = true;
-      }
-    }
-  Signed_distance_result& r = best;
-  r.lower_bound = std::min(r.lower_bound, lower);
-  // The sets' distance lies in [the smallest lower bound, the best upper bound]: a pair that ran
-  // out of budget leaves it uncertified only when its lower bound opens that gap.
-  if (!all_certified && r.is_certified() && r.upper_bound - r.lower_bound > r.tolerance_used)
-    r.status = Signed_distance_status::Budget_exhausted;
+  const Signed_set_distance_result set = signed_set_distance(set_a, set_b, request, k_max_seconds);
+  const std::size_t best_a = static_cast<std::size_t>(std::max(set.body_a, 0));
+  const std::size_t best_b = static_cast<std::size_t>(std::max(set.body_b, 0));
+  const Signed_distance_result& r = set.result;
   const bool overlapping = r.overlap != Overlap_kind::None;
 
   nlohmann::json j =
@@ -202,6 +176,7 @@ int run_distance(const Distance_options& options) {
     std::vector<Distance_hierarchy> ha, hb;
     auto build = [](const std::vector<Body>& bodies, std::vector<Distance_hierarchy>& h,
                     const std::string& target) {
+      h.reserve(bodies.size());
       for (const Body& b : bodies) {
         try {
           h.emplace_back(b);
@@ -212,64 +187,27 @@ int run_distance(const Distance_options& options) {
     };
     build(bodies_a, ha, options.a);
     build(bodies_b, hb, options.b);
-    // World pose of each body: the argument's pose after the body's placement in its file.
-    std::vector<Rigid_pose_3> poses_a, poses_b;
-    for (const Body& b : bodies_a) poses_a.push_back(X_WA * b.placement);
-    for (const Body& b : bodies_b) poses_b.push_back(X_WB * b.placement);
+    // Each body placed by the argument's pose after its placement in its file.
+    std::vector<Placed_body> set_a, set_b;
+    for (std::size_t i = 0; i < bodies_a.size(); ++i)
+      set_a.push_back({&bodies_a[i], &ha[i], X_WA * bodies_a[i].placement});
+    for (std::size_t i = 0; i < bodies_b.size(); ++i)
+      set_b.push_back({&bodies_b[i], &hb[i], X_WB * bodies_b[i].placement});
 
-    if (options.signed_distance)
-      return run_signed(options, bodies_a, bodies_b, ha, hb, poses_a, poses_b);
+    if (options.signed_distance) return run_signed(options, bodies_a, bodies_b, set_a, set_b);
 
     Distance_request request;
     request.absolute_tolerance = options.tolerance;  // CLI.md: d within the tolerance
     request.relative_tolerance = 0.0;
-    request.max_seconds = 60.0;
     Distance_workspace ws;
-    Best best;
-    // Files of several bodies (assemblies): the body pairs nearest by their boxes first, each
-    // query cut off at the best distance so far, and pairs whose boxes are already that far
-    // apart not queried (their box distance is their lower bound). The distance is the one the
-    // full loop gives; of pairs at exactly the same distance the one queried first is reported
-    // (the cutoff prunes the others), which for bodies that meet (box distance 0, the sort
-    // stable) is the first in file order.
-    struct Body_pair {
-      double box_gap;
-      std::size_t a, b;
-    };
-    std::vector<Body_pair> order;
-    for (std::size_t i = 0; i < ha.size(); ++i)
-      for (std::size_t j = 0; j < hb.size(); ++j)
-        order.push_back({box_distance(transformed(ha[i].box(), poses_a[i]),
-                                      transformed(hb[j].box(), poses_b[j])),
-                         i, j});
-    std::stable_sort(order.begin(), order.end(),
-                     [](const Body_pair& x, const Body_pair& y) { return x.box_gap < y.box_gap; });
-    for (const Body_pair& pair : order) {
-      const std::size_t i = pair.a, j = pair.b;
-      if (best.any && pair.box_gap >= best.result.upper_bound) {
-        best.lower = std::min(best.lower, pair.box_gap);
-        continue;
-      }
-      Distance_request cut = request;
-      if (best.any) cut.cutoff = best.result.upper_bound;
-      const Distance_result r = extremal_distance(ha[i], poses_a[i], hb[j], poses_b[j], cut, ws);
-      best.lower = std::min(best.lower, r.lower_bound);
-      best.all_certified = best.all_certified && r.is_certified();
-      if (r.element_a < 0) continue;  // nothing below the cutoff
-      if (!best.any || r.upper_bound < best.result.upper_bound) {
-        best.result = r;
-        best.body_a = i;
-        best.body_b = j;
-        best.any = true;
-      }
-    }
-    Distance_result r = best.result;
-    r.lower_bound = std::min(r.lower_bound, best.lower);
-    // As in run_signed: bodies that meet (upper bound 0) are certified whatever the other pairs.
-    if (!best.all_certified && r.is_certified() && r.upper_bound - r.lower_bound > r.tolerance_used)
-      r.status = Distance_status::Budget_exhausted;
+    // Files of several bodies (assemblies): nearest body pairs first, each cut off at the best
+    // so far (Set_distance.h).
+    const Set_distance_result set = set_distance(set_a, set_b, request, ws, k_max_seconds);
+    const Distance_result& r = set.result;
+    const std::size_t best_a = static_cast<std::size_t>(std::max(set.body_a, 0));
+    const std::size_t best_b = static_cast<std::size_t>(std::max(set.body_b, 0));
 
-    nlohmann::json j = result_json(r, bodies_a[best.body_a].name, bodies_b[best.body_b].name,
+    nlohmann::json j = result_json(r, bodies_a[best_a].name, bodies_b[best_b].name,
                                    options.tolerance);
     j["work"] = work_json(r);
     if (options.json) {
@@ -285,9 +223,9 @@ int run_distance(const Distance_options& options) {
       if (k != Element_kind::Point) os << ")";
       return os.str();
     };
-    std::cout << "point_a " << r.point_a.transpose() << "  on " << bodies_a[best.body_a].name
+    std::cout << "point_a " << r.point_a.transpose() << "  on " << bodies_a[best_a].name
               << " " << where(r.kind_a, r.element_a, r.params_a) << "\n";
-    std::cout << "point_b " << r.point_b.transpose() << "  on " << bodies_b[best.body_b].name
+    std::cout << "point_b " << r.point_b.transpose() << "  on " << bodies_b[best_b].name
               << " " << where(r.kind_b, r.element_b, r.params_b) << "\n";
     std::cout << "normal  " << r.normal.transpose() << "\n";
     return 0;
