@@ -97,12 +97,15 @@ nlohmann::json result_json(const Result& r, const std::string& name_a, const std
   return j;
 }
 
-// The certified solver's work counters (JSON "work").
-nlohmann::json work_json(const Distance_result& r) {
+// The certified solver's work counters (JSON "work"), summed over the body pairs queried; of
+// the body pairs, how many were queried and how many their boxes bounded.
+nlohmann::json work_json(const Distance_result& r, int pairs_queried, int pairs_skipped) {
   return {{"pairs", r.pairs_processed},
           {"nodes", r.nodes_created},
           {"newton_runs", r.newton_runs},
-          {"intersection_attempts", r.intersection_attempts}};
+          {"intersection_attempts", r.intersection_attempts},
+          {"body_pairs_queried", pairs_queried},
+          {"body_pairs_bounded_by_boxes", pairs_skipped}};
 }
 
 // The first line of the readable answer: the distance and its certificate.
@@ -139,7 +142,7 @@ int run_signed(const Distance_options& options, const std::vector<Body>& bodies_
   if (overlapping) j["depth"] = r.depth_is_translation_distance ? "translation" : "hull";
   j["closed_a"] = {{"closed", r.closed_a.closed}, {"reason", r.closed_a.reason}};
   j["closed_b"] = {{"closed", r.closed_b.closed}, {"reason", r.closed_b.reason}};
-  j["work"] = work_json(r.apart);
+  j["work"] = work_json(r.apart, set.pairs_queried, set.pairs_skipped);
   j["work"]["direction_cells"] = r.cells;
   j["work"]["supports"] = r.supports;
   j["work"]["winding_cells"] = r.winding_cells;
@@ -209,7 +212,7 @@ int run_distance(const Distance_options& options) {
 
     nlohmann::json j = result_json(r, bodies_a[best_a].name, bodies_b[best_b].name,
                                    options.tolerance);
-    j["work"] = work_json(r);
+    j["work"] = work_json(r, set.pairs_queried, set.pairs_skipped);
     if (options.json) {
       std::cout << j.dump(2) << "\n";
       return 0;

@@ -210,6 +210,18 @@ TEST(DistanceCli, TheNearestBodyOfAFileWinsWhateverItsBox) {
     EXPECT_EQ(j["body_a"], nearest) << at.transpose();
     EXPECT_NEAR(j["distance"].get<double>(), truth, 1e-9) << at.transpose();
     EXPECT_LE(j["lower_bound"].get<double>(), truth + 1e-12);
+    EXPECT_EQ(j["work"]["body_pairs_queried"].get<int>() +
+                  j["work"]["body_pairs_bounded_by_boxes"].get<int>(),
+              2);
+    // Signed: apart, the same answer (the second pair's apart query cut off at the first's).
+    const Cli_run s = run("distance " + file + " sphere:0.5 --pose-b " + pose.str() + " --signed --json");
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const auto k = nlohmann::json::parse(s.out);
+    EXPECT_EQ(k["status"], "converged");
+    EXPECT_EQ(k["overlap"], "none");
+    EXPECT_EQ(k["body_a"], nearest) << at.transpose();
+    EXPECT_NEAR(k["distance"].get<double>(), truth, 1e-9) << at.transpose();
+    EXPECT_LE(k["lower_bound"].get<double>(), truth + 1e-12);
   }
 }
 
