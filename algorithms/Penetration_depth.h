@@ -108,6 +108,9 @@ struct Signed_distance_request {
   double relative_tolerance = 1e-9;
   int max_cells = 200000;    // direction cells evaluated
   double max_seconds = 0.0;  // 0: no time limit (the apart query has its own in `apart`)
+  // The whole query's wall time (apart query, containment test, depth search), 0: no limit.
+  // The apart query and the depth search each get what is left of it, within their own limits.
+  double total_seconds = 0.0;
   // The query that decides whether the bodies are apart (and gives s when they are); its
   // tolerances are set from the ones above.
   Distance_request apart;

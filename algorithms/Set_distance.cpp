@@ -68,6 +68,40 @@ double within(double own, const std::optional<double>& left) {
   return own > 0.0 ? std::min(own, *left) : *left;
 }
 
+// The smallest lower bound over the pairs, and how the pair holding it ended.
+template <class Status>
+struct Lowest {
+  double bound = HUGE_VAL;
+  Status status = Status::Converged;
+  void offer(double lower, Status s) {
+    if (lower < bound) bound = lower, status = s;
+  }
+};
+
+// The loop both set queries share: `query(pair, time_left)` on each pair in order, except
+// pairs whose box bound reaches `beat()` (the best so far) and those left when the set's time
+// is spent, which count with their box bound.
+template <class Status, class Beat, class Query>
+void query_pairs(const std::vector<Body_pair>& order, double max_seconds, Set_work& work,
+                 Lowest<Status>& lowest, Beat beat, Query query) {
+  const Set_clock clock(max_seconds);
+  for (const Body_pair& pair : order) {
+    if (pair.bound >= beat()) {  // nothing of this pair can beat the best: its boxes say so
+      ++work.body_pairs_bounded;
+      lowest.offer(pair.bound, Status::Converged);
+      continue;
+    }
+    const std::optional<double> left = clock.left();
+    if (left && *left <= 0.0) {  // the time is spent: the boxes are all we know
+      ++work.body_pairs_bounded;
+      lowest.offer(pair.bound, Status::Budget_exhausted);
+      continue;
+    }
+    ++work.body_pairs_queried;
+    query(pair, left);
+  }
+}
+
 }  // namespace
 
 Set_distance_result set_distance(const std::vector<Placed_body>& A,
@@ -79,67 +113,49 @@ Set_distance_result set_distance(const std::vector<Placed_body>& A,
   EXTREMAL_PRECONDITION_MSG(max_seconds >= 0.0, "max_seconds must be >= 0, got " << max_seconds);
   const std::vector<Body_pair> order =
       pairs_by_bound(A, B, [](const Bbox_3& a, const Bbox_3& b) { return box_distance(a, b); });
-  const Set_clock clock(max_seconds);
 
   Set_distance_result out;
   Distance_result& best = out.result;
+  Set_work& work = out.work;
   bool any = false;
-  double lower = HUGE_VAL;  // smallest lower bound over all pairs, and the status of its pair
-  Distance_status lower_status = Distance_status::Converged;
-  long pairs = 0, nodes = 0;
-  int newton = 0, intersections = 0;
-  for (const Body_pair& pair : order) {
-    const double cutoff = any ? std::min(request.cutoff, best.upper_bound) : request.cutoff;
-    if (pair.bound >= cutoff) {  // nothing of this pair below the cutoff: its boxes say so
-      ++out.pairs_skipped;
-      if (pair.bound < lower) lower = pair.bound, lower_status = Distance_status::Converged;
-      continue;
-    }
-    const std::optional<double> left = clock.left();
-    if (left && *left <= 0.0) {  // the set's time is spent: the boxes are all we know
-      ++out.pairs_skipped;
-      if (pair.bound < lower) lower = pair.bound, lower_status = Distance_status::Budget_exhausted;
-      continue;
-    }
-    Distance_request query = request;
-    query.cutoff = cutoff;
-    query.max_seconds = within(request.max_seconds, left);
-    const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
-    const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
-    const Distance_result r =
-        extremal_distance(*a.hierarchy, a.pose, *b.hierarchy, b.pose, query, workspace);
-    ++out.pairs_queried;
-    pairs += r.pairs_processed;
-    nodes += r.nodes_created;
-    newton += r.newton_runs;
-    intersections += r.intersection_attempts;
-    if (r.lower_bound < lower) lower = r.lower_bound, lower_status = r.status;
-    if (r.element_a < 0) continue;  // nothing below the cutoff
-    if (!any || r.upper_bound < best.upper_bound) {
-      best = r;
-      out.body_a = pair.a;
-      out.body_b = pair.b;
-      any = true;
-    }
-  }
+  Lowest<Distance_status> lowest;
+  auto beat = [&] { return any ? std::min(request.cutoff, best.upper_bound) : request.cutoff; };
+  query_pairs(order, max_seconds, work, lowest, beat,
+              [&](const Body_pair& pair, const std::optional<double>& left) {
+                Distance_request query = request;
+                query.cutoff = beat();
+                query.max_seconds = within(request.max_seconds, left);
+                const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
+                const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
+                const Distance_result r = extremal_distance(*a.hierarchy, a.pose, *b.hierarchy,
+                                                            b.pose, query, workspace);
+                work.pairs_processed += r.pairs_processed;
+                work.nodes_created += r.nodes_created;
+                work.newton_runs += r.newton_runs;
+                work.intersection_attempts += r.intersection_attempts;
+                lowest.offer(r.lower_bound, r.status);
+                if (r.element_a < 0) return;  // nothing below the cutoff
+                if (!any || r.upper_bound < best.upper_bound) {
+                  best = r;
+                  out.body_a = pair.a;
+                  out.body_b = pair.b;
+                  any = true;
+                }
+              });
 
-  if (!any) {  // nothing below the request's cutoff (or no query could run)
+  if (!any) {  // nothing below the request's cutoff, or no query ran
     best = Distance_result();
     best.distance = best.upper_bound = request.cutoff;
-    best.lower_bound = std::min(lower, request.cutoff);
+    best.lower_bound = HUGE_VAL;
     best.tolerance_used = std::max(request.absolute_tolerance,
                                    request.relative_tolerance *
                                        (std::isfinite(request.cutoff) ? request.cutoff : 0.0));
   }
-  best.lower_bound = std::min(best.lower_bound, lower);
-  best.pairs_processed = pairs;
-  best.nodes_created = nodes;
-  best.newton_runs = newton;
-  best.intersection_attempts = intersections;
+  best.lower_bound = std::min(best.lower_bound, lowest.bound);
   // The sets' distance lies in [lower, best upper]: a pair that stopped short leaves the sets
   // uncertified only when its lower bound opens that gap (bodies that meet stay certified).
   if (!(best.upper_bound - best.lower_bound <= best.tolerance_used))
-    best.status = lower_status == Distance_status::Resolution_limit
+    best.status = lowest.status == Distance_status::Resolution_limit
                       ? Distance_status::Resolution_limit
                       : Distance_status::Budget_exhausted;
   return out;
@@ -153,75 +169,64 @@ Signed_set_distance_result signed_set_distance(const std::vector<Placed_body>& A
   check_set(B, "B", true);
   EXTREMAL_PRECONDITION_MSG(max_seconds >= 0.0, "max_seconds must be >= 0, got " << max_seconds);
   const std::vector<Body_pair> order = pairs_by_bound(A, B, signed_box_bound);
-  const Set_clock clock(max_seconds);
 
   Signed_set_distance_result out;
   Signed_distance_result& best = out.result;
+  Set_work& work = out.work;
   bool any = false;
-  double lower = HUGE_VAL;
-  Signed_distance_status lower_status = Signed_distance_status::Converged;
-  Distance_result work;  // the apart queries' work, summed
-  long cells = 0, supports = 0, winding_cells = 0;
-  for (const Body_pair& pair : order) {
-    if (any && pair.bound >= best.upper_bound) {
-      ++out.pairs_skipped;
-      if (pair.bound < lower) lower = pair.bound, lower_status = Signed_distance_status::Converged;
-      continue;
-    }
-    const std::optional<double> left = clock.left();
-    if (left && *left <= 0.0) {
-      ++out.pairs_skipped;
-      if (pair.bound < lower)
-        lower = pair.bound, lower_status = Signed_distance_status::Budget_exhausted;
-      continue;
-    }
-    Signed_distance_request query = request;
-    query.max_seconds = within(request.max_seconds, left);
-    query.apart.max_seconds = within(request.apart.max_seconds, left);
-    // A pair whose surfaces lie farther apart than a positive best can win only by containment,
-    // which signed_distance tests whatever the apart query's cutoff.
-    if (any && best.upper_bound > 0.0)
-      query.apart.cutoff = std::min(request.apart.cutoff, best.upper_bound);
-    const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
-    const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
-    const Signed_distance_result r =
-        signed_distance(*a.body, *a.hierarchy, a.pose, *b.body, *b.hierarchy, b.pose, query);
-    ++out.pairs_queried;
-    work.pairs_processed += r.apart.pairs_processed;
-    work.nodes_created += r.apart.nodes_created;
-    work.newton_runs += r.apart.newton_runs;
-    work.intersection_attempts += r.apart.intersection_attempts;
-    cells += r.cells;
-    supports += r.supports;
-    winding_cells += r.winding_cells;
-    if (r.lower_bound < lower) lower = r.lower_bound, lower_status = r.status;
-    if (r.overlap == Overlap_kind::None && r.apart.element_a < 0) continue;  // cut off
-    if (!any || r.upper_bound < best.upper_bound) {
-      best = r;
-      out.body_a = pair.a;
-      out.body_b = pair.b;
-      any = true;
-    }
-  }
+  Lowest<Signed_distance_status> lowest;
+  auto beat = [&] { return any ? best.upper_bound : HUGE_VAL; };
+  query_pairs(order, max_seconds, work, lowest, beat,
+              [&](const Body_pair& pair, const std::optional<double>& left) {
+                Signed_distance_request query = request;
+                query.total_seconds = within(request.total_seconds, left);
+                // Cut off only well above the tolerance: a query cut off at c settles pairs
+                // at c less the tolerance, and only a positive clearance lets containment be
+                // tested (at or below it the bodies may overlap unseen).
+                const double tol = std::max({request.absolute_tolerance,
+                                             request.relative_tolerance * std::abs(best.upper_bound),
+                                             best.tolerance_used});
+                if (any && best.upper_bound > 2.0 * tol)
+                  query.apart.cutoff = std::min(request.apart.cutoff, best.upper_bound);
+                const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
+                const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
+                const Signed_distance_result r = signed_distance(
+                    *a.body, *a.hierarchy, a.pose, *b.body, *b.hierarchy, b.pose, query);
+                work.pairs_processed += r.apart.pairs_processed;
+                work.nodes_created += r.apart.nodes_created;
+                work.newton_runs += r.apart.newton_runs;
+                work.intersection_attempts += r.apart.intersection_attempts;
+                work.cells += r.cells;
+                work.supports += r.supports;
+                work.winding_cells += r.winding_cells;
+                lowest.offer(r.lower_bound, r.status);
+                if (r.overlap == Overlap_kind::None && r.apart.element_a < 0) {  // cut off
+                  // Without a positive clearance (a tolerance raised to the scene's
+                  // resolution) containment went untested: only the boxes bound the pair.
+                  if (!(r.apart.lower_bound > 0.0))
+                    lowest.offer(pair.bound, Signed_distance_status::Budget_exhausted);
+                  return;
+                }
+                if (!any || r.upper_bound < best.upper_bound) {
+                  best = r;
+                  out.body_a = pair.a;
+                  out.body_b = pair.b;
+                  any = true;
+                }
+              });
 
-  if (!any) {
+  if (!any) {  // no query ran
     best = Signed_distance_result();
     best.status = Signed_distance_status::Budget_exhausted;
     best.distance = best.upper_bound = HUGE_VAL;
+    best.lower_bound = HUGE_VAL;
     best.tolerance_used = request.absolute_tolerance;
   }
-  best.lower_bound = std::min(best.lower_bound, lower);
-  best.apart.pairs_processed = work.pairs_processed;
-  best.apart.nodes_created = work.nodes_created;
-  best.apart.newton_runs = work.newton_runs;
-  best.apart.intersection_attempts = work.intersection_attempts;
-  best.cells = cells;
-  best.supports = supports;
-  best.winding_cells = winding_cells;
+  best.lower_bound = std::min(best.lower_bound, lowest.bound);
   if (!(best.upper_bound - best.lower_bound <= best.tolerance_used))
-    best.status = lower_status == Signed_distance_status::Resolution_limit ||
-                          lower_status == Signed_distance_status::Containment_unknown
-                      ? lower_status
+    best.status = lowest.status == Signed_distance_status::Resolution_limit ||
+                          lowest.status == Signed_distance_status::Containment_unknown
+                      ? lowest.status
                       : Signed_distance_status::Budget_exhausted;
   return out;
 }

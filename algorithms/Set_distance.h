@@ -31,17 +31,29 @@ struct Placed_body {
   Rigid_pose_3 pose;
 };
 
+// The work of a set query, summed over the body pairs queried.
+struct Set_work {
+  // The certified distance queries (Distance_result's counters; for signed queries, the apart
+  // queries').
+  long pairs_processed = 0, nodes_created = 0;
+  long newton_runs = 0, intersection_attempts = 0;
+  // Signed queries only (Signed_distance_result's counters).
+  long cells = 0, supports = 0, winding_cells = 0;
+  int body_pairs_queried = 0;  // body pairs given to the solver
+  int body_pairs_bounded = 0;  // body pairs bounded by their boxes alone (beyond the best so
+                               // far, or left when the time budget ran out)
+};
+
 struct Set_distance_result {
-  // The best pair's result, with the sets' certificate: lower_bound is the smallest lower
-  // bound over all pairs (queried or not), and status the best pair's when the sets' gap
-  // upper - lower is within its tolerance, else that of the pair holding the smallest lower
-  // bound (Budget_exhausted for a pair the time budget left unqueried). Work counters are
-  // summed over the queries. No witness at all (no pair could be queried): element_a = -1 and
-  // distance = upper_bound = infinity, status Budget_exhausted.
+  // The best pair's result (its own work counters), with the sets' certificate: lower_bound is
+  // the smallest lower bound over all pairs, queried or not, and status the best pair's while
+  // the sets' gap upper - lower is within its tolerance, else Resolution_limit if the pair
+  // holding the smallest lower bound stopped there, else Budget_exhausted. No pair with a
+  // witness below the request's cutoff (or none queried): element_a = -1, distance =
+  // upper_bound = the cutoff (infinity without one), status by that gap as above.
   Distance_result result;
   int body_a = -1, body_b = -1;  // indices in the sets of the pair that holds the witness
-  int pairs_queried = 0;         // body pairs given to the certified solver
-  int pairs_skipped = 0;         // pairs bounded by their boxes alone
+  Set_work work;
 };
 
 // The certified distance between sets A and B. `request`'s tolerances and node budget apply
@@ -56,21 +68,23 @@ struct Set_distance_result {
 
 struct Signed_set_distance_result {
   // As Set_distance_result, for signed distances: lower_bound the smallest over all pairs
-  // (unqueried or undecided pairs by their boxes: the distance between them, or minus the
-  // smallest overlap of the boxes along the coordinate axes, which bounds the hulls' depth),
-  // work counts of the best pair's query summed over all queries.
+  // (pairs not queried by their boxes' signed bound, signed_box_bound), status the best pair's
+  // while the gap is within its tolerance, else Resolution_limit or Containment_unknown if the
+  // pair holding the smallest lower bound stopped so, else Budget_exhausted. No witness (no
+  // pair queried): element_a = -1, distance = upper_bound = infinity, Budget_exhausted.
   Signed_distance_result result;
   int body_a = -1, body_b = -1;
-  int pairs_queried = 0;
-  int pairs_skipped = 0;
+  Set_work work;
 };
 
 // The smallest signed distance between a body of A and a body of B (the deepest overlap, else
-// the closest pair; Penetration_depth.h). Pairs are taken by their boxes' signed bound, and
-// while the best so far is positive each pair's apart query is cut off at it (a pair farther
-// apart than that can only win by containment, which is still tested). `max_seconds` (0: no
-// limit) is the whole set's wall time, shared out as in set_distance, within the request's own
-// limits for each pair. Throws Precondition_violation on an empty set or a missing body.
+// the closest pair; Penetration_depth.h). Pairs are taken by their boxes' signed bound, most
+// overlapping first (ties: A-major order), and while the best so far is positive (above its
+// tolerance) each pair's apart query is cut off at it: a pair farther apart than that can only
+// win by containment, which is still tested (its certified clearance is then positive).
+// `max_seconds` (0: no limit) is the whole set's wall time, each pair's query getting what is
+// left (Signed_distance_request::total_seconds). Throws Precondition_violation on an empty set
+// or a missing body.
 [[nodiscard]] Signed_set_distance_result signed_set_distance(const std::vector<Placed_body>& A,
                                                              const std::vector<Placed_body>& B,
                                                              const Signed_distance_request& request,

@@ -74,8 +74,8 @@ nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 // The keys CLI.md specifies for `extremal distance --json`, shared by the plain and the signed
 // result (same field names on both).
 template <class Result>
-nlohmann::json result_json(const Result& r, const std::string& name_a, const std::string& name_b,
-                           double tolerance) {
+nlohmann::json result_json(const Result& r, const nlohmann::json& name_a,
+                           const nlohmann::json& name_b, double tolerance) {
   nlohmann::json j;
   j["distance"] = r.distance;
   j["lower_bound"] = r.lower_bound;
@@ -97,15 +97,24 @@ nlohmann::json result_json(const Result& r, const std::string& name_a, const std
   return j;
 }
 
-// The certified solver's work counters (JSON "work"), summed over the body pairs queried; of
-// the body pairs, how many were queried and how many their boxes bounded.
-nlohmann::json work_json(const Distance_result& r, int pairs_queried, int pairs_skipped) {
-  return {{"pairs", r.pairs_processed},
-          {"nodes", r.nodes_created},
-          {"newton_runs", r.newton_runs},
-          {"intersection_attempts", r.intersection_attempts},
-          {"body_pairs_queried", pairs_queried},
-          {"body_pairs_bounded_by_boxes", pairs_skipped}};
+// The work of a query over the body pairs (JSON "work"): the certified solver's counters
+// summed over the pairs queried, and how many pairs were queried or bounded by their boxes.
+nlohmann::json work_json(const Set_work& w) {
+  return {{"pairs", w.pairs_processed},
+          {"nodes", w.nodes_created},
+          {"newton_runs", w.newton_runs},
+          {"intersection_attempts", w.intersection_attempts},
+          {"body_pairs_queried", w.body_pairs_queried},
+          {"body_pairs_bounded_by_boxes", w.body_pairs_bounded}};
+}
+
+// The name of the body at `index` of a set (null when no pair holds a witness).
+nlohmann::json body_name(const std::vector<Placed_body>& set, int index) {
+  if (index < 0) return nullptr;
+  return set[static_cast<std::size_t>(index)].body->name;
+}
+std::string readable(const nlohmann::json& name) {
+  return name.is_string() ? name.get<std::string>() : "no body (no witness)";
 }
 
 // The first line of the readable answer: the distance and its certificate.
@@ -121,31 +130,28 @@ constexpr double k_max_seconds = 60.0;
 
 // --signed: the smallest signed distance over the body pairs (the deepest penetration, or the
 // closest pair when none overlaps), with the smallest lower bound of all (Set_distance.h).
-int run_signed(const Distance_options& options, const std::vector<Body>& bodies_a,
-               const std::vector<Body>& bodies_b, const std::vector<Placed_body>& set_a,
+int run_signed(const Distance_options& options, const std::vector<Placed_body>& set_a,
                const std::vector<Placed_body>& set_b) {
   Signed_distance_request request;
   request.absolute_tolerance = options.tolerance;
   request.relative_tolerance = 0.0;
   if (options.max_cells > 0) request.max_cells = options.max_cells;
   const Signed_set_distance_result set = signed_set_distance(set_a, set_b, request, k_max_seconds);
-  const std::size_t best_a = static_cast<std::size_t>(std::max(set.body_a, 0));
-  const std::size_t best_b = static_cast<std::size_t>(std::max(set.body_b, 0));
   const Signed_distance_result& r = set.result;
+  const nlohmann::json name_a = body_name(set_a, set.body_a), name_b = body_name(set_b, set.body_b);
   const bool overlapping = r.overlap != Overlap_kind::None;
 
-  nlohmann::json j =
-      result_json(r, bodies_a[best_a].name, bodies_b[best_b].name, options.tolerance);
+  nlohmann::json j = result_json(r, name_a, name_b, options.tolerance);
   j["overlap"] = to_string(r.overlap);
   // What -distance measures while overlapping: the minimum translation distance (both bodies
   // certified convex) or the depth of the convex hulls (an upper bound on it).
   if (overlapping) j["depth"] = r.depth_is_translation_distance ? "translation" : "hull";
   j["closed_a"] = {{"closed", r.closed_a.closed}, {"reason", r.closed_a.reason}};
   j["closed_b"] = {{"closed", r.closed_b.closed}, {"reason", r.closed_b.reason}};
-  j["work"] = work_json(r.apart, set.pairs_queried, set.pairs_skipped);
-  j["work"]["direction_cells"] = r.cells;
-  j["work"]["supports"] = r.supports;
-  j["work"]["winding_cells"] = r.winding_cells;
+  j["work"] = work_json(set.work);
+  j["work"]["direction_cells"] = set.work.cells;
+  j["work"]["supports"] = set.work.supports;
+  j["work"]["winding_cells"] = set.work.winding_cells;
   if (options.json) {
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -156,8 +162,8 @@ int run_signed(const Distance_options& options, const std::vector<Body>& bodies_
               << (r.depth_is_translation_distance ? "bodies (minimum translation distance)"
                                                   : "convex hulls")
               << "\n";
-  std::cout << "point_a " << r.point_a.transpose() << "  on " << bodies_a[best_a].name << "\n";
-  std::cout << "point_b " << r.point_b.transpose() << "  on " << bodies_b[best_b].name << "\n";
+  std::cout << "point_a " << r.point_a.transpose() << "  on " << readable(name_a) << "\n";
+  std::cout << "point_b " << r.point_b.transpose() << "  on " << readable(name_b) << "\n";
   std::cout << "normal  " << r.normal.transpose() << "\n";
   return 0;
 }
@@ -197,7 +203,7 @@ int run_distance(const Distance_options& options) {
     for (std::size_t i = 0; i < bodies_b.size(); ++i)
       set_b.push_back({&bodies_b[i], &hb[i], X_WB * bodies_b[i].placement});
 
-    if (options.signed_distance) return run_signed(options, bodies_a, bodies_b, set_a, set_b);
+    if (options.signed_distance) return run_signed(options, set_a, set_b);
 
     Distance_request request;
     request.absolute_tolerance = options.tolerance;  // CLI.md: d within the tolerance
@@ -207,12 +213,11 @@ int run_distance(const Distance_options& options) {
     // so far (Set_distance.h).
     const Set_distance_result set = set_distance(set_a, set_b, request, ws, k_max_seconds);
     const Distance_result& r = set.result;
-    const std::size_t best_a = static_cast<std::size_t>(std::max(set.body_a, 0));
-    const std::size_t best_b = static_cast<std::size_t>(std::max(set.body_b, 0));
+    const nlohmann::json name_a = body_name(set_a, set.body_a);
+    const nlohmann::json name_b = body_name(set_b, set.body_b);
 
-    nlohmann::json j = result_json(r, bodies_a[best_a].name, bodies_b[best_b].name,
-                                   options.tolerance);
-    j["work"] = work_json(r, set.pairs_queried, set.pairs_skipped);
+    nlohmann::json j = result_json(r, name_a, name_b, options.tolerance);
+    j["work"] = work_json(set.work);
     if (options.json) {
       std::cout << j.dump(2) << "\n";
       return 0;
@@ -226,10 +231,8 @@ int run_distance(const Distance_options& options) {
       if (k != Element_kind::Point) os << ")";
       return os.str();
     };
-    std::cout << "point_a " << r.point_a.transpose() << "  on " << bodies_a[best_a].name
-              << " " << where(r.kind_a, r.element_a, r.params_a) << "\n";
-    std::cout << "point_b " << r.point_b.transpose() << "  on " << bodies_b[best_b].name
-              << " " << where(r.kind_b, r.element_b, r.params_b) << "\n";
+    std::cout << "point_a " << r.point_a.transpose() << "  on " << readable(name_a) << " " << where(r.kind_a, r.element_a, r.params_a) << "\n";
+    std::cout << "point_b " << r.point_b.transpose() << "  on " << readable(name_b) << " " << where(r.kind_b, r.element_b, r.params_b) << "\n";
     std::cout << "normal  " << r.normal.transpose() << "\n";
     return 0;
   } catch (const Invalid_input& e) {
