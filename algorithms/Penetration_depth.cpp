@@ -478,6 +478,57 @@ bool face_point_at(const Distance_hierarchy& H, const Rigid_pose_3& X_W, int e, 
   return true;
 }
 
+bool lexicographic_less(const Vec3& a, const Vec3& b) {
+  return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+}
+
+// A face of a hull's plane that does not depend on how the hull triangulated it: CGAL's
+// convex_hull_3 splits a face of several coplanar vertices (a box's hull of differences) in an
+// order that follows memory addresses, which would make the search, and so the last digits of
+// its bounds, differ from run to run. Of the hull's vertices in the plane of `face` (within
+// rounding), sorted, the first triple whose triangle holds the plane's point nearest the origin
+// replaces it; `normal` and `nearest` are taken from it. Faces of up to k_plane_vertices
+// vertices only (beyond, the face stays as found).
+void canonical_face(const CGAL::Surface_mesh<Point_3>& hull, const Vec3& centroid, Vec3& normal,
+                    double& nearest, Vec3 face[3]) {
+  constexpr int k_plane_vertices = 16;
+  double size = 0.0;
+  for (auto v : hull.vertices()) size = std::max(size, to_vec3(hull.point(v)).cwiseAbs().maxCoeff());
+  const double eps = 1e-12 * std::max(size, 1e-300);
+  std::vector<Vec3> on_plane;
+  for (auto v : hull.vertices()) {
+    const Vec3 x = to_vec3(hull.point(v));
+    if (std::abs(normal.dot(x) - nearest) <= eps) on_plane.push_back(x);
+  }
+  if (on_plane.size() <= 3 || on_plane.size() > k_plane_vertices) return;
+  std::sort(on_plane.begin(), on_plane.end(), lexicographic_less);
+  const Vec3 target = nearest * normal;
+  const int n = static_cast<int>(on_plane.size());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      for (int k = j + 1; k < n; ++k) {
+        const Vec3 &a = on_plane[static_cast<std::size_t>(i)], &b = on_plane[static_cast<std::size_t>(j)],
+                   &c = on_plane[static_cast<std::size_t>(k)];
+        Vec3 m = (b - a).cross(c - a);
+        const double area2 = m.norm();
+        if (!(area2 > eps * size)) continue;  // (nearly) collinear
+        m /= area2;
+        // Barycentric coordinates of the target in the triangle, by signed sub-areas.
+        const double wa = m.dot((b - target).cross(c - target)) / area2;
+        const double wb = m.dot((c - target).cross(a - target)) / area2;
+        const double wc = 1.0 - wa - wb;
+        const double slack = -1e-12;
+        if (wa < slack || wb < slack || wc < slack) continue;
+        if (m.dot(a - centroid) < 0.0) m = -m;
+        normal = m;
+        nearest = m.dot(a);
+        face[0] = a;
+        face[1] = b;
+        face[2] = c;
+        return;
+      }
+}
+
 }  // namespace
 
 Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const Rigid_pose_3& X_WA,
@@ -645,6 +696,9 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
         int k = 0;
         for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull))
           if (k < 3) x[k++] = to_vec3(hull.point(v));
+        // In sorted order: the face's normal then has the same rounding whichever vertex the
+        // hull's halfedge starts at (see canonical_face).
+        std::sort(x, x + 3, lexicographic_less);
         Vec3 m = (x[1] - x[0]).cross(x[2] - x[0]);
         if (!(m.norm() > 0.0)) continue;
         m.normalize();
@@ -659,6 +713,7 @@ Signed_distance_result hull_signed_distance(const Distance_hierarchy& HA, const 
         }
       }
       if (!(nearest > 0.0) || !(normal.norm() > 0.0)) break;  // origin not inside P
+      canonical_face(hull, centroid, normal, nearest, face);
       for (int k = 0; k < 3; ++k) last_face[k] = face[k];
       have_face = true;
       const Direction_eval at = evaluate(normal);
