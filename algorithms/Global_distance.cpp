@@ -46,6 +46,10 @@ struct Live_node {
   double radius = 0.0;
   double size = 0.0;  // box diagonal
   int split_dir = 0;  // the direction it is halved in (Side::split_direction)
+  // A sub-patch's unit normal, its net's diagonals crossed (none for curves and collapsed
+  // nets): an axis for Solver::lower_bound.
+  Vec3 normal = Vec3::Zero();
+  bool has_normal = false;
   int child[2] = {-1, -1};
   int depth = 0;
   int axis_stamp = -1;  // the witness axis axis_lo/hi were computed for
@@ -191,6 +195,18 @@ struct Heap_order {
   bool operator()(const Pair_entry& x, const Pair_entry& y) const { return x.lower > y.lower; }
 };
 
+// The unit normal of a sub-patch's net, its diagonals crossed; false for curves and collapsed
+// nets (a pole).
+bool net_normal(const Live_node& n, const Vec3* cart, Vec3& axis) {
+  if (n.dim != 2) return false;
+  const int last = n.count() - 1, nv = n.nv;
+  axis = (cart[last] - cart[0]).cross(cart[nv - 1] - cart[last - (nv - 1)]);
+  const double length = axis.norm();
+  if (!(length > 1e-12 * n.size * n.size)) return false;
+  axis /= length;
+  return true;
+}
+
 // One side of the query: a hierarchy placed by a pose, with its live nodes.
 struct Side {
   const Distance_hierarchy* h;
@@ -208,6 +224,7 @@ struct Side {
                          n.bmin, n.bmax, n.centre, n.radius);
     n.size = (n.bmax - n.bmin).norm();
     n.split_dir = split_direction(n);
+    n.has_normal = net_normal(n, pools->cart.data() + n.offset, n.normal);
   }
 
   int make_from_tree(int tree_index, int depth) {
@@ -441,7 +458,15 @@ class Solver {
  private:
   int m_only[2] = {-1, -1};
   const std::vector<Sub_patch_pair>* m_starts = nullptr;
-  double lower_bound(Live_node& a, Live_node& b, double cutoff);
+  // The axis along which the last lower_bound call bounded its pair, when it was a net
+  // normal (B beyond A along it by `gap`); -infinity otherwise. keep_bound takes it for the
+  // pair just bounded.
+  struct Normal_gap {
+    Vec3 axis = Vec3::Zero();
+    double gap = -HUGE_VAL;
+  } m_normal_gap;
+  // `parent`: the bound of the pair this one was split from (-infinity: none).
+  double lower_bound(Live_node& a, Live_node& b, double cutoff, double parent = -HUGE_VAL);
   void project_on_axis(Live_node& n, int side);
   void corner_candidates(const Live_node& a, const Live_node& b);
   void polish(const Live_node& a, const Live_node& b);
@@ -473,7 +498,9 @@ class Solver {
   double region_bound(const Live_node& a, const Live_node& b) const;
   bool holds_no_minimum(int ia, int ib, int side);
   // Distance_request::keep_proofs: the pair (a, b) bounded by L.
-  void keep_bound(const Live_node& a, const Live_node& b, double L);
+  // `normal`: the axis lower_bound just bounded this pair along, if a net normal.
+  void keep_bound(const Live_node& a, const Live_node& b, double L,
+                  const Normal_gap* normal = nullptr);
   void classify_meeting();
   void fill(Distance_result& r) const;
 
@@ -508,10 +535,12 @@ void Solver::project_on_axis(Live_node& n, int side) {
   n.axis_stamp = m_axis_stamp;
 }
 
-double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff) {
+double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double parent) {
+  m_normal_gap = Normal_gap();
   double L = internal::box_distance(a.bmin, a.bmax, b.bmin, b.bmax);
   if (L >= cutoff) return L;
-  L = std::max(L, (a.centre - b.centre).norm() - a.radius - b.radius);
+  const double centres = (a.centre - b.centre).norm();
+  L = std::max(L, centres - a.radius - b.radius);
   if (L >= cutoff || !a.is_net() || !b.is_net()) return L;
   if (!m_scratch.regions.empty()) {
     L = std::max(L, region_bound(a, b));
@@ -531,6 +560,32 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff) {
                                     L = std::max(L, x.gap());
                                     return L >= cutoff;
                                   });
+  // Along each sub-patch's own normal, when the bounds above gained nothing on the parent
+  // pair's. Where two sheets run nearly parallel (a part against its offset copy, mating faces
+  // at a small clearance) the gap along the local normal is close to their distance, while the
+  // witness axis (from where the faces are flat) and the centroid axis see the pieces' tilt
+  // wherever the sheets bend, the same after every halving along them: such pairs stalled
+  // (OCC22459-TEST2.stp's third sheet against its copy moved by (3, 1, -2): [1.65, 2.72]
+  // after 200k nodes, now within 5e-7 of 2.70469). Only where the normal turns far enough
+  // from the witness axis for the gap to reach the cutoff (turning an axis by |dn| moves a
+  // gap by at most (the nets' diameters + their centres' distance) |dn|): the projections on
+  // every stalled pair cost 2 to 8% of a query's time for 0 to 4% fewer nodes.
+  if (L >= cutoff || L > parent) return L;
+  const double reach = a.size + b.size + centres, short_of = cutoff - L;
+  for (const Live_node* n : {&a, &b}) {
+    if (!n->has_normal) continue;
+    const Vec3& axis = n->normal;
+    // |axis -+ m_axis|^2 = 2 - 2 |axis . m_axis| for unit axes.
+    if (m_have_axis &&
+        2.0 * (1.0 - std::abs(axis.dot(m_axis))) * reach * reach < short_of * short_of)
+      continue;
+    const internal::Axis_extents x = internal::axis_extents(ca, a.count(), cb, b.count(), axis);
+    if (x.gap() > L) {
+      L = x.gap();
+      m_normal_gap = {x.separation() > 0.0 ? axis : Vec3(-axis), L};
+    }
+    if (L >= cutoff) return L;
+  }
   return L;
 }
 
@@ -957,7 +1012,8 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
   return false;
 }
 
-void Solver::keep_bound(const Live_node& a, const Live_node& b, double L) {
+void Solver::keep_bound(const Live_node& a, const Live_node& b, double L,
+                        const Normal_gap* normal) {
   if (!m_req.keep_proofs) return;
   Bound_proof& p = m_scratch.bounds.emplace_back();
   p.lower = L;
@@ -988,6 +1044,11 @@ void Solver::keep_bound(const Live_node& a, const Live_node& b, double L) {
                                     }
                                     return false;
                                   });
+  // Or the net normal lower_bound just bounded this pair along.
+  if (normal != nullptr && normal->gap > p.gap) {
+    p.gap = normal->gap;
+    p.axis = normal->axis;
+  }
 }
 
 // Gauss-Newton on f(x_A) = h(x_B) from the centres of the two nodes: a common point ends the
@@ -1250,14 +1311,14 @@ Distance_result Solver::run() {
       const double cutoff = prune_level() - k_prune * tolerance();
       const double L = std::max(
           top.lower,
-          lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], cutoff));
+          lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], cutoff, top.lower));
       if (L < cutoff) {
         if (holds_no_minimum(ia, ib, 0) || holds_no_minimum(ia, ib, 1)) continue;
         heap.push_back({L, ia, ib});
         std::push_heap(heap.begin(), heap.end(), Heap_order());
       } else {
         dropped = std::min(dropped, L);
-        keep_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], L);
+        keep_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], L, &m_normal_gap);
       }
     }
   }

@@ -280,6 +280,36 @@ TEST(DistanceFiles, TrimmedFaceOfATurbineIsFartherThanItsPatch) {
   check_trimmed_face(k_data + "/step/ec_turbine-A.stp", 0.2, 1e-9);
 }
 
+// Two curved sheets running parallel at a small clearance: OCC22459-TEST2.stp's third body
+// (two ruled B-spline faces, about 0.9 x 1.8 x 1.7 m) against its own copy moved by (3, 1, -2)
+// mm. Where the sheets bend, the witness axis sees the pieces' tilt however often they are
+// halved along the sheet; bounded along their own normals, the pairs close. Before, the
+// default node budget ended at [1.65, 2.72]; 2.70468715496 is the converged distance (4M
+// nodes: a continuum of near-minimal pairs along the sheets makes the last digits costly).
+TEST(DistanceFiles, NearlyParallelCurvedSheetsCloseTheirBounds) {
+  io::Read_options read;
+  read.trim_tolerance = 1e-9;
+  const io::Model model = io::read_model(k_data + "/step/OCC22459-TEST2.stp", read);
+  std::vector<const Body*> bodies;
+  for (const Body& b : model.bodies)
+    if (!b.is_empty()) bodies.push_back(&b);
+  ASSERT_EQ(bodies.size(), 3u);
+  const Body& sheet = *bodies[2];
+  ASSERT_EQ(sheet.faces.size(), 2u);
+  const Distance_hierarchy h(sheet);
+  Distance_request request;
+  request.absolute_tolerance = 1e-9;
+  request.relative_tolerance = 0.0;
+  const Distance_result r = extremal_distance(
+      h, sheet.placement, h, Rigid_pose_3(Mat3::Identity(), Vec3(3, 1, -2)) * sheet.placement,
+      request);
+  const double truth = 2.70468715496;
+  EXPECT_LE(r.lower_bound, truth + 1e-10);
+  EXPECT_GE(r.upper_bound, truth - 1e-10);
+  EXPECT_LE(r.upper_bound - r.lower_bound, 1e-6);
+  EXPECT_NEAR(r.distance, truth, 1e-6);
+}
+
 // A trimmed face of a real part against a small ball near it, where the face's nearest points
 // lie on its trim boundary: a certified solve that keeps its proofs, and rigid motions of the
 // ball's side to check them after (Body_pair_tracker checks them rather than solving again).
