@@ -46,10 +46,10 @@ struct Live_node {
   double radius = 0.0;
   double size = 0.0;  // box diagonal
   int split_dir = 0;  // the direction it is halved in (Side::split_direction)
-  // A sub-patch's unit normal, its net's diagonals crossed (none for curves and collapsed
-  // nets): an axis for Solver::lower_bound.
+  // A sub-patch's unit normal, its net's diagonals crossed, made on first use by
+  // Solver::lower_bound (normal_state 0: not yet, 1: made, 2: none, a curve or collapsed net).
   Vec3 normal = Vec3::Zero();
-  bool has_normal = false;
+  int normal_state = 0;
   int child[2] = {-1, -1};
   int depth = 0;
   int axis_stamp = -1;  // the witness axis axis_lo/hi were computed for
@@ -224,7 +224,6 @@ struct Side {
                          n.bmin, n.bmax, n.centre, n.radius);
     n.size = (n.bmax - n.bmin).norm();
     n.split_dir = split_direction(n);
-    n.has_normal = net_normal(n, pools->cart.data() + n.offset, n.normal);
   }
 
   int make_from_tree(int tree_index, int depth) {
@@ -377,6 +376,7 @@ struct Side {
         c = parent;
         c.child[0] = c.child[1] = -1;
         c.axis_stamp = -1;
+        c.normal_state = 0;
         c.depth = parent.depth + 1;
         c.offset = off0 + half * count;
         if (half == 0)
@@ -572,8 +572,10 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double par
   // every stalled pair cost 2 to 8% of a query's time for 0 to 4% fewer nodes.
   if (L >= cutoff || L > parent) return L;
   const double reach = a.size + b.size + centres, short_of = cutoff - L;
-  for (const Live_node* n : {&a, &b}) {
-    if (!n->has_normal) continue;
+  for (Live_node* n : {&a, &b}) {
+    if (n->normal_state == 0)
+      n->normal_state = net_normal(*n, n == &a ? ca : cb, n->normal) ? 1 : 2;
+    if (n->normal_state != 1) continue;
     const Vec3& axis = n->normal;
     // |axis -+ m_axis|^2 = 2 - 2 |axis . m_axis| for unit axes.
     if (m_have_axis &&
