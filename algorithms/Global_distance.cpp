@@ -458,15 +458,16 @@ class Solver {
  private:
   int m_only[2] = {-1, -1};
   const std::vector<Sub_patch_pair>* m_starts = nullptr;
-  // The axis along which the last lower_bound call bounded its pair, when it was a net
-  // normal (B beyond A along it by `gap`); -infinity otherwise. keep_bound takes it for the
-  // pair just bounded.
+  // A net normal along which lower_bound bounded a pair: B lies `gap` beyond A along `axis`
+  // (gap -infinity: the bound came from elsewhere).
   struct Normal_gap {
     Vec3 axis = Vec3::Zero();
     double gap = -HUGE_VAL;
-  } m_normal_gap;
-  // `parent`: the bound of the pair this one was split from (-infinity: none).
-  double lower_bound(Live_node& a, Live_node& b, double cutoff, double parent = -HUGE_VAL);
+  };
+  // `parent`: the bound of the pair this one was split from (-infinity: none); `normal`, if
+  // given, receives the net normal the bound was taken along.
+  double lower_bound(Live_node& a, Live_node& b, double cutoff, double parent = -HUGE_VAL,
+                     Normal_gap* normal = nullptr);
   void project_on_axis(Live_node& n, int side);
   void corner_candidates(const Live_node& a, const Live_node& b);
   void polish(const Live_node& a, const Live_node& b);
@@ -498,7 +499,7 @@ class Solver {
   double region_bound(const Live_node& a, const Live_node& b) const;
   bool holds_no_minimum(int ia, int ib, int side);
   // Distance_request::keep_proofs: the pair (a, b) bounded by L.
-  // `normal`: the axis lower_bound just bounded this pair along, if a net normal.
+  // `normal`: the net normal lower_bound bounded this pair along, if any.
   void keep_bound(const Live_node& a, const Live_node& b, double L,
                   const Normal_gap* normal = nullptr);
   void classify_meeting();
@@ -535,8 +536,8 @@ void Solver::project_on_axis(Live_node& n, int side) {
   n.axis_stamp = m_axis_stamp;
 }
 
-double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double parent) {
-  m_normal_gap = Normal_gap();
+double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double parent,
+                           Normal_gap* normal) {
   double L = internal::box_distance(a.bmin, a.bmax, b.bmin, b.bmax);
   if (L >= cutoff) return L;
   const double centres = (a.centre - b.centre).norm();
@@ -568,8 +569,8 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double par
   // (OCC22459-TEST2.stp's third sheet against its copy moved by (3, 1, -2): [1.65, 2.72]
   // after 200k nodes, now within 5e-7 of 2.70469). Only where the normal turns far enough
   // from the witness axis for the gap to reach the cutoff (turning an axis by |dn| moves a
-  // gap by at most (the nets' diameters + their centres' distance) |dn|): the projections on
-  // every stalled pair cost 2 to 8% of a query's time for 0 to 4% fewer nodes.
+  // gap by at most (the nets' diameters + their centres' distance) |dn|): without that
+  // filter the projections cost 2 to 8% of a query's time for 0 to 4% fewer nodes.
   if (L >= cutoff || L > parent) return L;
   const double reach = a.size + b.size + centres, short_of = cutoff - L;
   for (Live_node* n : {&a, &b}) {
@@ -584,7 +585,7 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double par
     const internal::Axis_extents x = internal::axis_extents(ca, a.count(), cb, b.count(), axis);
     if (x.gap() > L) {
       L = x.gap();
-      m_normal_gap = {x.separation() > 0.0 ? axis : Vec3(-axis), L};
+      if (normal != nullptr) *normal = {x.separation() > 0.0 ? axis : Vec3(-axis), L};
     }
     if (L >= cutoff) return L;
   }
@@ -1311,16 +1312,17 @@ Distance_result Solver::run() {
           continue;
       }
       const double cutoff = prune_level() - k_prune * tolerance();
-      const double L = std::max(
-          top.lower,
-          lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], cutoff, top.lower));
+      Normal_gap normal;
+      const double L =
+          std::max(top.lower, lower_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib],
+                                          cutoff, top.lower, &normal));
       if (L < cutoff) {
         if (holds_no_minimum(ia, ib, 0) || holds_no_minimum(ia, ib, 1)) continue;
         heap.push_back({L, ia, ib});
         std::push_heap(heap.begin(), heap.end(), Heap_order());
       } else {
         dropped = std::min(dropped, L);
-        keep_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], L, &m_normal_gap);
+        keep_bound(m_side[0].pools->nodes[ia], m_side[1].pools->nodes[ib], L, &normal);
       }
     }
   }
