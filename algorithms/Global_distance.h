@@ -17,8 +17,9 @@
 // world and runs a best-first branch and bound over pairs of nodes:
 //   - lower bounds: the distance between the nodes' world boxes, and for two Bezier sub-patches
 //     the gap between the projections of their control points on a few axes (the witness normal,
-//     the line through their centroids). A rational patch with positive weights lies in the convex
-//     hull of its Cartesian control points, so both are certified;
+//     the line through their centroids, and where those gain nothing on the parent pair, each
+//     sub-patch's own normal: nearly parallel sheets that bend). A rational patch with positive
+//     weights lies in the convex hull of its Cartesian control points, so both are certified;
 //   - upper bounds: on-surface corner points of the sub-patches, then a Newton polish of the pair
 //     (solve_pair_at_rest) on the whole face or curve whenever a pair beats the best so far;
 //   - near a Newton solution that may be the minimum: a parameter box on which |f_A - f_B|^2 is
