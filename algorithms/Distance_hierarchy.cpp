@@ -171,6 +171,43 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
       add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
     }
   }
+  // Interior knot lines where a face may fold (see reaches_kink): a knot of multiplicity at
+  // least the degree makes the surface only C0 there, and it folds unless every row of poles
+  // across it turns no corner at the pole it passes through (then it is tangent-continuous, as
+  // the double knots of a rational circle, and an extremum on the line has a zero derivative on
+  // both sides).
+  m_kinks.resize(m_elements.size());
+  for (std::size_t k = 0; k < m_elements.size(); ++k) {
+    const Nurbs_surface_3* s = m_elements[k].feature.surface();
+    if (m_elements[k].kind != Element_kind::Face || s == nullptr) continue;
+    for (int dir = 0; dir < 2; ++dir) {
+      const std::vector<double>& knots = dir == 0 ? s->knots_u() : s->knots_v();
+      const int degree = dir == 0 ? s->degree_u() : s->degree_v();
+      const int across = dir == 0 ? s->number_of_poles_v() : s->number_of_poles_u();
+      const double lo = dir == 0 ? s->u_min() : s->v_min(), hi = dir == 0 ? s->u_max() : s->v_max();
+      auto pole = [&](int along, int row) -> Vec3 {
+        const Point_3& p = dir == 0 ? s->pole(along, row) : s->pole(row, along);
+        return Vec3(p.x(), p.y(), p.z());
+      };
+      for (std::size_t i = 0; i < knots.size();) {
+        std::size_t j = i;
+        while (j < knots.size() && knots[j] == knots[i]) ++j;
+        const int multiplicity = static_cast<int>(j - i);
+        if (knots[i] > lo && knots[i] < hi && multiplicity >= degree) {
+          bool folds = multiplicity > degree;
+          const int at = static_cast<int>(i) - 1;  // the pole the surface passes through there
+          for (int r = 0; r < across && !folds; ++r) {
+            const Vec3 in = pole(at, r) - pole(at - 1, r), out = pole(at + 1, r) - pole(at, r);
+            if (in == Vec3::Zero() && out == Vec3::Zero()) continue;  // a collapsed row (a pole)
+            const double scale = in.norm() * out.norm();
+            folds = !(in.dot(out) > 0.0) || in.cross(out).norm() > 1e-13 * scale;
+          }
+          if (folds) m_kinks[k][dir].push_back(knots[i]);
+        }
+        i = j;
+      }
+    }
+  }
   // Open sides (see Element::open_sides). A face's edges carry its boundary when every edge
   // that bounds it became a curve element (or is a degenerate pole edge).
   std::vector<int> edge_state(body.faces.size(), 0);  // 0 no edges, 1 all carried, 2 some not
@@ -249,6 +286,16 @@ int Distance_hierarchy::element_of(Element_kind kind, int index) const {
                  : -1;
   }
   return -1;
+}
+
+bool Distance_hierarchy::reaches_kink(int e, const double* lo, const double* hi) const {
+  const auto& kinks = m_kinks[static_cast<std::size_t>(e)];
+  for (int dir = 0; dir < 2; ++dir) {
+    const std::vector<double>& t = kinks[dir];
+    const auto it = std::lower_bound(t.begin(), t.end(), lo[dir]);
+    if (it != t.end() && *it <= hi[dir]) return true;
+  }
+  return false;
 }
 
 bool Distance_hierarchy::may_hold_trimmed(int e, const double* lo, const double* hi) const {

@@ -3,6 +3,7 @@
 // bounding-volume tree over them.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,6 +80,12 @@ class Distance_hierarchy {
   // False only when the parameter box [lo, hi] of a piece of element e holds no point of the
   // trimmed face (Trim_region::box_outside): such nodes can be dropped.
   bool may_hold_trimmed(int e, const double* lo, const double* hi) const;
+  // Whether the parameter box [lo, hi] of element e reaches one of its face's interior C0 knot
+  // lines (a knot of multiplicity at least the degree, where the surface may fold: a faceted
+  // degree-1 direction, a crease inside one patch). An extremum on such a line leaves the
+  // gradient non-zero on both sides of it, so no gradient argument may drop a sub-patch that
+  // touches one (holds_no_minimum, holds_no_maximum).
+  bool reaches_kink(int e, const double* lo, const double* hi) const;
   // The element of a body's face, curve (B-rep edges after Body::curves) or point, or -1 when
   // it has none (a degenerate edge).
   int element_of(Element_kind kind, int index) const;
@@ -93,6 +100,8 @@ class Distance_hierarchy {
   std::vector<std::unique_ptr<Nurbs_surface_3>> m_surfaces;
   std::vector<std::unique_ptr<Nurbs_curve_3>> m_curves;
   std::vector<Trim_region> m_trims;  // per element; untrimmed for curves, points, bare faces
+  // Per element and parameter direction: the interior C0 knot values, sorted (faces only).
+  std::vector<std::array<std::vector<double>, 2>> m_kinks;
   std::vector<Element> m_elements;
   std::vector<Piece> m_pieces;
   std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> m_poles;

@@ -950,7 +950,10 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
     if (n.lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
     if (n.hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
   }
-  if (touch & open) return false;
+  // (Nor across a C0 knot line inside the face, where a minimum leaves the gradient non-zero
+  // on both sides.)
+  if ((touch & open) || (n.dim == 2 && m_side[side].h->reaches_kink(n.element, n.lo, n.hi)))
+    return false;
   auto& gradients = m_side[side].pools->gradients;
   if (gradients.size() <= static_cast<std::size_t>(in))
     gradients.resize(m_side[side].pools->nodes.size());

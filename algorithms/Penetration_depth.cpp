@@ -140,7 +140,8 @@ bool polish_support(const Distance_hierarchy& H, int e, const Vec3& n, double* q
 // face's parameters is nowhere zero over it (its enclosure excludes zero) and it touches no
 // open side of the face: a maximiser inside the trimmed domain would make the gradient vanish,
 // and one on the trim boundary lies on a B-rep edge, a curve element whose own sub-nets hold
-// it. Such a sub-net is dropped without a bound (as Global_distance does for minima on trim
+// it (not across a C0 knot line inside the face: Distance_hierarchy::reaches_kink). Such a
+// sub-net is dropped without a bound (as Global_distance does for minima on trim
 // boundaries): straddling sub-nets would otherwise bound the patch beyond the trim and close
 // only linearly.
 bool holds_no_maximum(const Distance_hierarchy& H, int e, const Hom* src, int nu, int nv,
@@ -153,7 +154,7 @@ bool holds_no_maximum(const Distance_hierarchy& H, int e, const Hom* src, int nu
     if (lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
     if (hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
   }
-  if (touch & el.open_sides) return false;
+  if ((touch & el.open_sides) || H.reaches_kink(e, lo, hi)) return false;
   const int count = nu * nv;
   Vec3 centre = Vec3::Zero();
   for (int k = 0; k < count; ++k) centre += src[k].head<3>() / src[k][3];

@@ -5,6 +5,7 @@
 // a seeded std::mt19937_64 (EXTREMAL_SEED=n reproduces a run).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -201,6 +202,47 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
 double sphere_torus_distance(const Vec3& p, double R, double r, double rs) {
   const double rho = std::hypot(p.x(), p.y());
   return std::hypot(rho - R, p.z()) - r - rs;
+}
+
+// Knot lines a face may fold along (Distance_hierarchy::reaches_kink): a rational circle's
+// double knots join its arcs without a corner and are not listed; a degree-1 ridge is.
+TEST(GlobalDistance, FoldsInsideAFaceAreTheCornersOnly) {
+  const Body cylinder = make_cylinder_body(1.0, 2.0);
+  const Distance_hierarchy hc(cylinder);
+  int smooth_knots = 0;
+  for (int e = 0; e < static_cast<int>(hc.elements().size()); ++e) {
+    const Nurbs_surface_3* s = hc.elements()[e].feature.surface();
+    if (s == nullptr) continue;
+    for (int dir = 0; dir < 2; ++dir) {
+      const std::vector<double>& k = dir == 0 ? s->knots_u() : s->knots_v();
+      const int degree = dir == 0 ? s->degree_u() : s->degree_v();
+      for (std::size_t i = static_cast<std::size_t>(degree) + 1; i + degree + 1 < k.size(); ++i) {
+        if (std::count(k.begin(), k.end(), k[i]) < degree) continue;
+        const double lo[2] = {dir == 0 ? k[i] : s->u_min(), dir == 1 ? k[i] : s->v_min()};
+        const double hi[2] = {dir == 0 ? k[i] : s->u_min(), dir == 1 ? k[i] : s->v_min()};
+        EXPECT_FALSE(hc.reaches_kink(e, lo, hi)) << "element " << e << " knot " << k[i];
+        ++smooth_knots;
+      }
+    }
+  }
+  EXPECT_GT(smooth_knots, 0);  // the circle's double knots were looked at
+
+  // A roof: degree 1 across a ridge at v = 0.5, and a flat degree-1 strip with the same knots.
+  auto roof = [](double ridge) {
+    std::vector<Point_3> poles;
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 3; ++j) poles.emplace_back(i, j, j == 1 ? ridge : 0.0);
+    Body b;
+    b.faces.emplace_back(Nurbs_surface_3(1, 1, 2, 3, poles, {0, 0, 1, 1}, {0, 0, 0.5, 1, 1}), "roof");
+    return b;
+  };
+  const Body ridged = roof(1.0), flat = roof(0.0);
+  const Distance_hierarchy hr(ridged), hf(flat);
+  const double at_ridge_lo[2] = {0.2, 0.3}, at_ridge_hi[2] = {0.4, 0.5};
+  const double away_lo[2] = {0.2, 0.6}, away_hi[2] = {0.4, 0.9};
+  EXPECT_TRUE(hr.reaches_kink(0, at_ridge_lo, at_ridge_hi));
+  EXPECT_FALSE(hr.reaches_kink(0, away_lo, away_hi));
+  EXPECT_FALSE(hf.reaches_kink(0, at_ridge_lo, at_ridge_hi));
 }
 
 TEST(GlobalDistance, SphereOnTheAxisOfATorus) {

@@ -19,6 +19,7 @@
 
 #include "support/Cli_run.h"
 #include "algorithms/Global_distance.h"
+#include "algorithms/Penetration_depth.h"
 #include "io/Model_reader.h"
 #include "kernel/Shapes.h"
 
@@ -499,6 +500,56 @@ TEST(DistanceFiles, NearlyParallelCurvedSheetsCloseTheirBounds) {
     }
   }
   EXPECT_GT(checked, 100);
+}
+
+// OCC17026-1.igs: four trimmed faces, degree 2 x 1, each folding along its v = 0.5 knot line
+// (a C0 line inside the face: the body's bottom rim). An extremum on the fold has a non-zero
+// gradient on both sides of it, so sub-patches there must not be dropped as if it lay on a trim
+// edge: before, both the distance from a point below the rim and the support function along a
+// horizontal direction came out certified and wrong (4359.646 against 4358.232; 18738.96
+// against 19400.00).
+TEST(DistanceFiles, ExtremaOnAFoldInsideAFaceAreKept) {
+  io::Read_options read;
+  read.trim_tolerance = 1e-9;
+  const io::Model model = io::read_model(k_data + "/iges/OCC17026-1.igs", read);
+  ASSERT_EQ(model.bodies.size(), 1u);
+  const Body& body = model.bodies[0];
+  const Distance_hierarchy h(body);
+  // Dense samples of the faces (their trims hold the whole domain), the fold line included.
+  std::vector<Vec3> samples;
+  for (const Face& f : body.faces) {
+    const Nurbs_surface_3& s = f.surface;
+    const int n = 200;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        const double u = s.u_min() + (s.u_max() - s.u_min()) * i / n;
+        const double v = s.v_min() + (s.v_max() - s.v_min()) * j / n;
+        Surface_point sp;
+        s.evaluate(std::min(u, s.u_max()), std::min(v, s.v_max()), sp, 0);
+        samples.push_back(body.placement.apply_point(sp.p));
+      }
+  }
+  const Vec3 point(10000, 10000, -900);
+  double sampled = HUGE_VAL;
+  for (const Vec3& x : samples) sampled = std::min(sampled, (x - point).norm());
+  Body probe = make_point_body();
+  const Distance_hierarchy hp(probe);
+  Distance_request request;
+  request.absolute_tolerance = 1e-9;
+  request.relative_tolerance = 0.0;
+  const Distance_result r = extremal_distance(h, body.placement, hp, Rigid_pose_3(Mat3::Identity(), point), request);
+  EXPECT_EQ(r.status, Distance_status::Converged);
+  EXPECT_LE(r.upper_bound, sampled + 1e-9);
+  EXPECT_LE(r.lower_bound, r.upper_bound);
+
+  const Vec3 n = Vec3(0.9659258262785884, -0.25881904514163245, -2.7336654740091853e-12).normalized();
+  double highest = -HUGE_VAL;
+  for (const Vec3& x : samples) highest = std::max(highest, n.dot(x));
+  Support_request support;
+  support.tolerance = 1e-9;
+  const Support_bound b = support_bound(h, body.placement, n, support);
+  EXPECT_GE(b.upper, highest - 1e-9);
+  EXPECT_LE(b.lower, b.upper);
 }
 
 }  // namespace
