@@ -144,7 +144,7 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
   // B-rep edges: the trim boundaries in 3D, restricted to the edge's parameter range.
   for (std::size_t k = 0; k < body.edges.size(); ++k) {
     const Edge& edge = body.edges[k];
-    if (!edge.curve) continue;  // degenerate (a pole): its point lies on the faces' pieces
+    if (!edge.curve) continue;  // degenerate (its point lies on the faces' pieces) or no curve
     Nurbs_curve_3 c = *edge.curve;
     const double t0 = std::max(edge.t_min, c.domain_min());
     const double t1 = std::min(edge.t_max, c.domain_max());
@@ -209,11 +209,13 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
     }
   }
   // Open sides (see Element::open_sides). A face's edges carry its boundary when every edge
-  // that bounds it became a curve element (or is a degenerate pole edge).
+  // that bounds it became a curve element or is degenerate (a pole). An edge the file gives no
+  // usable 3D curve for carries nothing: a face it bounds keeps its trim boundary open, or an
+  // extremum there would be dropped with the sub-patches that lead to it.
   std::vector<int> edge_state(body.faces.size(), 0);  // 0 no edges, 1 all carried, 2 some not
   for (std::size_t k = 0; k < body.edges.size(); ++k) {
     const Edge& edge = body.edges[k];
-    bool carried = !edge.curve;
+    bool carried = !edge.curve && edge.degenerate;
     if (edge.curve) {
       const double t0 = std::max(edge.t_min, edge.curve->domain_min());
       const double t1 = std::min(edge.t_max, edge.curve->domain_max());

@@ -59,8 +59,10 @@ nlohmann::json body_json(const Body& body) {
                 {"holes", holes},
                 {"curves", trim_curves}};
   int manifold = 0, free_edges = 0, seams = 0, non_manifold = 0, degenerate = 0, same_param = 0;
+  int no_curve = 0;
   for (const auto& e : body.edges) {
-    if (!e.curve) ++degenerate;
+    if (e.degenerate) ++degenerate;
+    if (!e.curve && !e.degenerate) ++no_curve;
     if (e.same_parameter) ++same_param;
     if (e.uses.size() == 1) ++free_edges;
     if (e.uses.size() > 2) ++non_manifold;
@@ -74,7 +76,7 @@ nlohmann::json body_json(const Body& body) {
   j["adjacency"] = {{"edges", body.edges.size()},  {"shared", manifold},
                     {"seams", seams},              {"free", free_edges},
                     {"non_manifold", non_manifold}, {"degenerate", degenerate},
-                    {"same_parameter", same_param}};
+                    {"without_3d_curve", no_curve}, {"same_parameter", same_param}};
   if (!body.mesh.empty())
     j["mesh"] = {{"vertices", body.mesh.vertices.size()},
                  {"triangles", body.mesh.triangles.size()}};

@@ -58,7 +58,11 @@ struct Edge_use {
 // parameter range [t_min, t_max] as `curve`; with `same_parameter`, uv(t) on the face is the
 // point curve(t) (to `tolerance`), so t maps a point across the edge.
 struct Edge {
-  std::optional<Nurbs_curve_3> curve;  // body frame; empty for a degenerate edge (a sphere pole)
+  // Body frame; empty for a degenerate edge, or when the file gives no usable 3D curve.
+  std::optional<Nurbs_curve_3> curve;
+  // A degenerate edge (a pole or an apex: its trim curves map to one point). An edge without a
+  // curve that is not degenerate is a trim boundary that no curve element carries.
+  bool degenerate = false;
   double t_min = 0.0, t_max = 0.0;
   bool same_parameter = true;
   // The file's edge tolerance in body units, raised to the measured gap between uv(t) mapped on

@@ -245,6 +245,43 @@ TEST(GlobalDistance, FoldsInsideAFaceAreTheCornersOnly) {
   EXPECT_FALSE(hf.reaches_kink(0, at_ridge_lo, at_ridge_hi));
 }
 
+// A face's trim boundary is carried by its B-rep edges' curve elements; an edge without a 3D
+// curve carries it only if it is degenerate (a pole). One the file gave no curve for leaves
+// the boundary open (Element::open_sides bit 4), so no gradient argument drops a sub-patch for
+// an extremum that would lie there.
+TEST(GlobalDistance, AnEdgeWithoutACurveCarriesNothingUnlessDegenerate) {
+  auto square = [](bool last_has_curve, bool last_degenerate) {
+    std::vector<Point_3> poles = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}};
+    Body b;
+    b.faces.emplace_back(Nurbs_surface_3(1, 1, 2, 2, poles, {0, 0, 1, 1}, {0, 0, 1, 1}), "plane");
+    const double corner[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+    Trim_loop loop;
+    for (int k = 0; k < 4; ++k) {
+      const Point_3 a(corner[k][0], corner[k][1], 0), c(corner[k + 1][0], corner[k + 1][1], 0);
+      loop.curves.push_back({Nurbs_curve_3(1, {a, c}, {0, 0, 1, 1}), k, false});
+      Edge e;
+      e.t_min = 0.0;
+      e.t_max = 1.0;
+      if (k < 3 || last_has_curve) e.curve = Nurbs_curve_3(1, {a, c}, {0, 0, 1, 1});
+      e.degenerate = k == 3 && last_degenerate;
+      e.uses.push_back({0, 0, k});
+      b.edges.push_back(std::move(e));
+    }
+    b.faces[0].trims.push_back(std::move(loop));
+    b.faces[0].update_trim_region(1e-9);
+    return b;
+  };
+  auto face_open = [](const Body& b) {
+    const Distance_hierarchy h(b);
+    for (const auto& e : h.elements())
+      if (e.kind == Element_kind::Face) return e.open_sides;
+    return 0xFFu;
+  };
+  EXPECT_EQ(face_open(square(true, false)), 0u);            // every side a curve element
+  EXPECT_EQ(face_open(square(false, true)), 0u);            // a degenerate edge: its point
+  EXPECT_NE(face_open(square(false, false)) & 0x10u, 0u);   // no curve, not degenerate: open
+}
+
 TEST(GlobalDistance, SphereOnTheAxisOfATorus) {
   // On the axis every point of a circle on the tube is nearest: a continuum of minimisers. The
   // hull bounds converge quadratically in the sub-patch size, so the node count grows like

@@ -213,11 +213,16 @@ Body face_only_body(const Body& body, int face_index) {
   Body face_only;
   face_only.name = body.name;
   face_only.faces.push_back(body.faces[face_index]);
-  face_only.edges = body.edges;
+  face_only.edges = body.edges;  // indices kept: the face's trim curves refer to them
   for (Edge& e : face_only.edges) {
-    bool on_face = false;
-    for (const Edge_use& use : e.uses) on_face = on_face || use.face == face_index;
-    if (!on_face) e.curve.reset();
+    std::vector<Edge_use> uses;
+    for (Edge_use use : e.uses)
+      if (use.face == face_index) {
+        use.face = 0;  // the only face now
+        uses.push_back(use);
+      }
+    e.uses = std::move(uses);
+    if (e.uses.empty()) e.curve.reset();
   }
   return face_only;
 }

@@ -470,6 +470,7 @@ Body convert_shape(const TopoDS_Shape& shape, Session& ss, const std::string& bo
             edge.t_max = l;
             edge.tolerance = BRep_Tool::Tolerance(e) * scale;
             edge.same_parameter = BRep_Tool::SameParameter(e) && uv_same;
+            edge.degenerate = BRep_Tool::Degenerated(e);
             double cf, cl;
             Handle(Geom_Curve) c3 = BRep_Tool::Degenerated(e) ? nullptr : BRep_Tool::Curve(e, cf, cl);
             if (!c3.IsNull() && cf < cl) {
