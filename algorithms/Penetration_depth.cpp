@@ -17,6 +17,7 @@
 #include "algorithms/Feature.h"
 #include "algorithms/Pair_geometry.h"
 #include "algorithms/internal/Bezier_net.h"
+#include "algorithms/internal/Time_budget.h"
 #include "kernel/Error.h"
 
 namespace extremal {
@@ -930,21 +931,11 @@ Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& 
   EXTREMAL_PRECONDITION(request.absolute_tolerance > 0.0 && request.relative_tolerance >= 0.0);
   EXTREMAL_PRECONDITION(request.max_cells > 0 && request.max_seconds >= 0.0 &&
                         request.total_seconds >= 0.0);
-  const auto start = std::chrono::steady_clock::now();
-  // A phase's own limit (0: none) within what the whole query has left (never 0, which would
-  // mean no limit: a spent budget stops the phase at its first check).
-  auto within_total = [&](double own) {
-    if (request.total_seconds <= 0.0) return own;
-    const double left = std::max(
-        request.total_seconds -
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-        std::numeric_limits<double>::min());
-    return own > 0.0 ? std::min(own, left) : left;
-  };
+  const internal::Time_budget budget(request.total_seconds);
   Distance_request dreq = request.apart;
   dreq.absolute_tolerance = request.absolute_tolerance;
   dreq.relative_tolerance = request.relative_tolerance;
-  dreq.max_seconds = within_total(request.apart.max_seconds);
+  dreq.max_seconds = budget.limit_for(request.apart.max_seconds);
   const Distance_result r = extremal_distance(HA, X_WA, HB, X_WB, dreq);
   const Closedness closed_a = body_closedness(A), closed_b = body_closedness(B);
 
@@ -995,7 +986,7 @@ Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& 
                                                                    transformed(HB.box(), X_WB)));
   } else {
     Signed_distance_request depth = request;
-    depth.max_seconds = within_total(request.max_seconds);
+    depth.max_seconds = budget.limit_for(request.max_seconds);
     out = hull_signed_distance(HA, X_WA, HB, X_WB, depth);
     out.depth_is_translation_distance = is_certified_convex(A) && is_certified_convex(B);
     if (overlap == Overlap_kind::Surfaces_meet && r.status == Distance_status::Touching &&

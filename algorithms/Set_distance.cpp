@@ -1,17 +1,14 @@
 #include "algorithms/Set_distance.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <optional>
 
+#include "algorithms/internal/Time_budget.h"
 #include "kernel/Error.h"
 
 namespace extremal {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 void check_set(const std::vector<Placed_body>& set, const char* which, bool need_body) {
   EXTREMAL_PRECONDITION_MSG(!set.empty(), "set " << which << " holds no body");
@@ -48,26 +45,6 @@ std::vector<Body_pair> pairs_by_bound(const std::vector<Placed_body>& A,
   return order;
 }
 
-// The whole set's time: what is left for the next query (nullopt: no limit; <= 0: none left).
-class Set_clock {
- public:
-  explicit Set_clock(double max_seconds) : m_limit(max_seconds), m_start(Clock::now()) {}
-  std::optional<double> left() const {
-    if (m_limit <= 0.0) return std::nullopt;
-    return m_limit - std::chrono::duration<double>(Clock::now() - m_start).count();
-  }
-
- private:
-  double m_limit;
-  Clock::time_point m_start;
-};
-
-// A query's own limit (0: none) within what the set has left.
-double within(double own, const std::optional<double>& left) {
-  if (!left) return own;
-  return own > 0.0 ? std::min(own, *left) : *left;
-}
-
 // The smallest lower bound over the pairs, and how the pair holding it ended.
 template <class Status>
 struct Lowest {
@@ -78,36 +55,33 @@ struct Lowest {
   }
 };
 
-// The loop both set queries share: `query(pair, time_left)` on each pair in order, except
-// pairs whose box bound reaches `beat()` (the best so far) and those left when the set's time
-// is spent, which count with their box bound.
+// The loop both set queries share: `query(pair)` on each pair in order, except pairs whose box
+// bound reaches `beat()` (the best so far) and those left when the set's time is spent, which
+// count with their box bound.
 template <class Status, class Beat, class Query>
-void query_pairs(const std::vector<Body_pair>& order, double max_seconds, Set_work& work,
-                 Lowest<Status>& lowest, Beat beat, Query query) {
-  const Set_clock clock(max_seconds);
+void query_pairs(const std::vector<Body_pair>& order, const internal::Time_budget& budget,
+                 Set_work& work, Lowest<Status>& lowest, Beat beat, Query query) {
   for (const Body_pair& pair : order) {
     if (pair.bound >= beat()) {  // nothing of this pair can beat the best: its boxes say so
       ++work.body_pairs_bounded;
       lowest.offer(pair.bound, Status::Converged);
       continue;
     }
-    const std::optional<double> left = clock.left();
-    if (left && *left <= 0.0) {  // the time is spent: the boxes are all we know
+    if (budget.spent()) {  // the boxes are all we know
       ++work.body_pairs_bounded;
       lowest.offer(pair.bound, Status::Budget_exhausted);
       continue;
     }
     ++work.body_pairs_queried;
-    query(pair, left);
+    query(pair);
   }
 }
 
 }  // namespace
 
 Set_distance_result set_distance(const std::vector<Placed_body>& A,
-                                 const std::vector<Placed_body>& B,
-                                 const Distance_request& request, Distance_workspace& workspace,
-                                 double max_seconds) {
+                                 const std::vector<Placed_body>& B, const Distance_request& request,
+                                 Distance_workspace& workspace, double max_seconds) {
   check_set(A, "A", false);
   check_set(B, "B", false);
   EXTREMAL_PRECONDITION_MSG(max_seconds >= 0.0, "max_seconds must be >= 0, got " << max_seconds);
@@ -120,40 +94,41 @@ Set_distance_result set_distance(const std::vector<Placed_body>& A,
   bool any = false;
   Lowest<Distance_status> lowest;
   auto beat = [&] { return any ? std::min(request.cutoff, best.upper_bound) : request.cutoff; };
-  query_pairs(order, max_seconds, work, lowest, beat,
-              [&](const Body_pair& pair, const std::optional<double>& left) {
-                Distance_request query = request;
-                query.cutoff = beat();
-                query.max_seconds = within(request.max_seconds, left);
-                const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
-                const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
-                const Distance_result r = extremal_distance(*a.hierarchy, a.pose, *b.hierarchy,
-                                                            b.pose, query, workspace);
-                work.pairs_processed += r.pairs_processed;
-                work.nodes_created += r.nodes_created;
-                work.newton_runs += r.newton_runs;
-                work.intersection_attempts += r.intersection_attempts;
-                lowest.offer(r.lower_bound, r.status);
-                if (r.element_a < 0) return;  // nothing below the cutoff
-                if (!any || r.upper_bound < best.upper_bound) {
-                  best = r;
-                  out.body_a = pair.a;
-                  out.body_b = pair.b;
-                  any = true;
-                }
-              });
+  const internal::Time_budget budget(max_seconds);
+  query_pairs(order, budget, work, lowest, beat, [&](const Body_pair& pair) {
+    Distance_request query = request;
+    query.cutoff = beat();
+    query.max_seconds = budget.limit_for(request.max_seconds);
+    const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
+    const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
+    const Distance_result r =
+        extremal_distance(*a.hierarchy, a.pose, *b.hierarchy, b.pose, query, workspace);
+    work.pairs_processed += r.pairs_processed;
+    work.nodes_created += r.nodes_created;
+    work.newton_runs += r.newton_runs;
+    work.intersection_attempts += r.intersection_attempts;
+    lowest.offer(r.lower_bound, r.status);
+    if (r.element_a < 0) return;  // nothing below the cutoff
+    if (!any || r.upper_bound < best.upper_bound) {
+      best = r;
+      out.body_a = pair.a;
+      out.body_b = pair.b;
+      any = true;
+    }
+  });
 
   if (!any) {  // nothing below the request's cutoff, or no query ran
     best = Distance_result();
     best.distance = best.upper_bound = request.cutoff;
     best.lower_bound = HUGE_VAL;
-    best.tolerance_used = std::max(request.absolute_tolerance,
-                                   request.relative_tolerance *
-                                       (std::isfinite(request.cutoff) ? request.cutoff : 0.0));
+    best.tolerance_used = std::max(
+        request.absolute_tolerance,
+        request.relative_tolerance * (std::isfinite(request.cutoff) ? request.cutoff : 0.0));
   }
   best.lower_bound = std::min(best.lower_bound, lowest.bound);
-  // The sets' distance lies in [lower, best upper]: a pair that stopped short leaves the sets
-  // uncertified only when its lower bound opens that gap (bodies that meet stay certified).
+  // The sets' distance lies in [lower, best upper]: a pair that stopped short
+  // leaves the sets uncertified only when its lower bound opens that gap
+  // (bodies that meet stay certified).
   if (!(best.upper_bound - best.lower_bound <= best.tolerance_used))
     best.status = lowest.status == Distance_status::Resolution_limit
                       ? Distance_status::Resolution_limit
@@ -176,44 +151,44 @@ Signed_set_distance_result signed_set_distance(const std::vector<Placed_body>& A
   bool any = false;
   Lowest<Signed_distance_status> lowest;
   auto beat = [&] { return any ? best.upper_bound : HUGE_VAL; };
-  query_pairs(order, max_seconds, work, lowest, beat,
-              [&](const Body_pair& pair, const std::optional<double>& left) {
-                Signed_distance_request query = request;
-                query.total_seconds = within(request.total_seconds, left);
-                // Cut off only well above the tolerance: a query cut off at c settles pairs
-                // at c less the tolerance, and only a positive clearance lets containment be
-                // tested (at or below it the bodies may overlap unseen).
-                const double tol = std::max({request.absolute_tolerance,
-                                             request.relative_tolerance * std::abs(best.upper_bound),
-                                             best.tolerance_used});
-                if (any && best.upper_bound > 2.0 * tol)
-                  query.apart.cutoff = std::min(request.apart.cutoff, best.upper_bound);
-                const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
-                const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
-                const Signed_distance_result r = signed_distance(
-                    *a.body, *a.hierarchy, a.pose, *b.body, *b.hierarchy, b.pose, query);
-                work.pairs_processed += r.apart.pairs_processed;
-                work.nodes_created += r.apart.nodes_created;
-                work.newton_runs += r.apart.newton_runs;
-                work.intersection_attempts += r.apart.intersection_attempts;
-                work.cells += r.cells;
-                work.supports += r.supports;
-                work.winding_cells += r.winding_cells;
-                lowest.offer(r.lower_bound, r.status);
-                if (r.overlap == Overlap_kind::None && r.apart.element_a < 0) {  // cut off
-                  // Without a positive clearance (a tolerance raised to the scene's
-                  // resolution) containment went untested: only the boxes bound the pair.
-                  if (!(r.apart.lower_bound > 0.0))
-                    lowest.offer(pair.bound, Signed_distance_status::Budget_exhausted);
-                  return;
-                }
-                if (!any || r.upper_bound < best.upper_bound) {
-                  best = r;
-                  out.body_a = pair.a;
-                  out.body_b = pair.b;
-                  any = true;
-                }
-              });
+  const internal::Time_budget budget(max_seconds);
+  query_pairs(order, budget, work, lowest, beat, [&](const Body_pair& pair) {
+    Signed_distance_request query = request;
+    query.total_seconds = budget.limit_for(request.total_seconds);
+    // Cut off only well above the tolerance: a query cut off at c settles pairs
+    // at c less the tolerance, and only a positive clearance lets containment
+    // be tested (at or below it the bodies may overlap unseen).
+    const double tol =
+        std::max({request.absolute_tolerance,
+                  request.relative_tolerance * std::abs(best.upper_bound), best.tolerance_used});
+    if (any && best.upper_bound > 2.0 * tol)
+      query.apart.cutoff = std::min(request.apart.cutoff, best.upper_bound);
+    const Placed_body& a = A[static_cast<std::size_t>(pair.a)];
+    const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
+    const Signed_distance_result r =
+        signed_distance(*a.body, *a.hierarchy, a.pose, *b.body, *b.hierarchy, b.pose, query);
+    work.pairs_processed += r.apart.pairs_processed;
+    work.nodes_created += r.apart.nodes_created;
+    work.newton_runs += r.apart.newton_runs;
+    work.intersection_attempts += r.apart.intersection_attempts;
+    work.cells += r.cells;
+    work.supports += r.supports;
+    work.winding_cells += r.winding_cells;
+    lowest.offer(r.lower_bound, r.status);
+    if (r.overlap == Overlap_kind::None && r.apart.element_a < 0) {  // cut off
+      // Without a positive clearance (a tolerance raised to the scene's
+      // resolution) containment went untested: only the boxes bound the pair.
+      if (!(r.apart.lower_bound > 0.0))
+        lowest.offer(pair.bound, Signed_distance_status::Budget_exhausted);
+      return;
+    }
+    if (!any || r.upper_bound < best.upper_bound) {
+      best = r;
+      out.body_a = pair.a;
+      out.body_b = pair.b;
+      any = true;
+    }
+  });
 
   if (!any) {  // no query ran
     best = Signed_distance_result();
