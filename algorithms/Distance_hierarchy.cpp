@@ -300,6 +300,18 @@ bool Distance_hierarchy::reaches_kink(int e, const double* lo, const double* hi)
   return false;
 }
 
+bool Distance_hierarchy::reaches_uncarried(int e, const double* lo, const double* hi,
+                                           unsigned open) const {
+  if (open & 0x10u) return true;
+  const Feature& f = m_elements[static_cast<std::size_t>(e)].feature;
+  unsigned touch = 0;
+  for (int k = 0; k < f.dimension(); ++k) {
+    if (lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
+    if (hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
+  }
+  return (touch & open) != 0u || reaches_kink(e, lo, hi);
+}
+
 bool Distance_hierarchy::may_hold_trimmed(int e, const double* lo, const double* hi) const {
   const Element& el = m_elements[e];
   if (el.kind != Element_kind::Face || !el.trimmed) return true;

@@ -83,9 +83,14 @@ class Distance_hierarchy {
   // Whether the parameter box [lo, hi] of element e reaches one of its face's interior C0 knot
   // lines (a knot of multiplicity at least the degree, where the surface may fold: a faceted
   // degree-1 direction, a crease inside one patch). An extremum on such a line leaves the
-  // gradient non-zero on both sides of it, so no gradient argument may drop a sub-patch that
-  // touches one (holds_no_minimum, holds_no_maximum).
+  // gradient non-zero on both sides of it.
   bool reaches_kink(int e, const double* lo, const double* hi) const;
+  // Whether the parameter box [lo, hi] of element e reaches a place where an extremum needs no
+  // vanishing gradient and no curve element carries it: a trim boundary without curve
+  // elements (bit 4 of `open`), a side of the domain in `open` (Element::open_sides, which a
+  // caller may narrow), or a fold inside the face. The gradient arguments that drop sub-patches
+  // (holds_no_minimum, holds_no_maximum) may drop only those that reach none.
+  bool reaches_uncarried(int e, const double* lo, const double* hi, unsigned open) const;
   // The element of a body's face, curve (B-rep edges after Body::curves) or point, or -1 when
   // it has none (a degenerate edge).
   int element_of(Element_kind kind, int index) const;

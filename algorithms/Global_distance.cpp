@@ -943,16 +943,7 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
   const bool requested = n.element == m_only[side] &&
                          (m_req.carried_sides[0] | m_req.carried_sides[1]) != 0u;
   if (requested) open &= ~m_req.carried_sides[side];
-  if ((!el.trimmed && !requested) || (open & 0x10u)) return false;
-  const Feature& f = el.feature;
-  unsigned touch = 0;
-  for (int k = 0; k < n.dim; ++k) {
-    if (n.lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
-    if (n.hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
-  }
-  // (Nor across a C0 knot line inside the face, where a minimum leaves the gradient non-zero
-  // on both sides.)
-  if ((touch & open) || (n.dim == 2 && m_side[side].h->reaches_kink(n.element, n.lo, n.hi)))
+  if ((!el.trimmed && !requested) || m_side[side].h->reaches_uncarried(n.element, n.lo, n.hi, open))
     return false;
   auto& gradients = m_side[side].pools->gradients;
   if (gradients.size() <= static_cast<std::size_t>(in))

@@ -148,14 +148,8 @@ bool polish_support(const Distance_hierarchy& H, int e, const Vec3& n, double* q
 bool holds_no_maximum(const Distance_hierarchy& H, int e, const Hom* src, int nu, int nv,
                       const double* lo, const double* hi, const Vec3& n, Hom_vector& scratch) {
   const auto& el = H.elements()[e];
-  if (el.kind != Element_kind::Face || !el.trimmed || (el.open_sides & 0x10u)) return false;
-  const Feature& f = el.feature;
-  unsigned touch = 0;
-  for (int k = 0; k < 2; ++k) {
-    if (lo[k] <= f.lower(k)) touch |= 1u << (2 * k);
-    if (hi[k] >= f.upper(k)) touch |= 2u << (2 * k);
-  }
-  if ((touch & el.open_sides) || H.reaches_kink(e, lo, hi)) return false;
+  if (el.kind != Element_kind::Face || !el.trimmed || H.reaches_uncarried(e, lo, hi, el.open_sides))
+    return false;
   const int count = nu * nv;
   Vec3 centre = Vec3::Zero();
   for (int k = 0; k < count; ++k) centre += src[k].head<3>() / src[k][3];
