@@ -22,6 +22,40 @@ const char* to_string(Element_kind k) {
 
 namespace {
 
+// The interior knot values of direction `dir` (0: u) along which the surface may fold: a knot of
+// multiplicity at least the degree makes it only C0 there, and it folds unless every row of
+// poles across the line turns no corner at the pole the surface passes through (then it is
+// tangent-continuous, as at the double knots of a rational circle, and an extremum on the line
+// has a zero derivative on both sides). A collapsed row (a pole) turns no corner.
+std::vector<double> fold_lines(const Nurbs_surface_3& s, int dir) {
+  const std::vector<double>& knots = dir == 0 ? s.knots_u() : s.knots_v();
+  const int degree = dir == 0 ? s.degree_u() : s.degree_v();
+  const int across = dir == 0 ? s.number_of_poles_v() : s.number_of_poles_u();
+  const double lo = dir == 0 ? s.u_min() : s.v_min(), hi = dir == 0 ? s.u_max() : s.v_max();
+  auto pole = [&](int along, int row) -> Vec3 {
+    const Point_3& p = dir == 0 ? s.pole(along, row) : s.pole(row, along);
+    return Vec3(p.x(), p.y(), p.z());
+  };
+  std::vector<double> folds;
+  for (std::size_t i = 0; i < knots.size();) {
+    std::size_t j = i;
+    while (j < knots.size() && knots[j] == knots[i]) ++j;
+    const int multiplicity = static_cast<int>(j - i);
+    if (knots[i] > lo && knots[i] < hi && multiplicity >= degree) {
+      bool fold = multiplicity > degree;
+      const int at = static_cast<int>(i) - 1;  // the pole the surface passes through there
+      for (int r = 0; r < across && !fold; ++r) {
+        const Vec3 in = pole(at, r) - pole(at - 1, r), out = pole(at + 1, r) - pole(at, r);
+        if (in == Vec3::Zero() && out == Vec3::Zero()) continue;
+        fold = !(in.dot(out) > 0.0) || in.cross(out).norm() > 1e-13 * in.norm() * out.norm();
+      }
+      if (fold) folds.push_back(knots[i]);
+    }
+    i = j;
+  }
+  return folds;
+}
+
 Bbox_3 box_of(const Eigen::Vector4d* h, int n) {
   Bbox_3 b;
   for (int k = 0; k < n; ++k) {
@@ -171,42 +205,12 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
       add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
     }
   }
-  // Interior knot lines where a face may fold (see reaches_kink): a knot of multiplicity at
-  // least the degree makes the surface only C0 there, and it folds unless every row of poles
-  // across it turns no corner at the pole it passes through (then it is tangent-continuous, as
-  // the double knots of a rational circle, and an extremum on the line has a zero derivative on
-  // both sides).
+  // Interior knot lines where a face may fold (see reaches_kink).
   m_kinks.resize(m_elements.size());
   for (std::size_t k = 0; k < m_elements.size(); ++k) {
     const Nurbs_surface_3* s = m_elements[k].feature.surface();
     if (m_elements[k].kind != Element_kind::Face || s == nullptr) continue;
-    for (int dir = 0; dir < 2; ++dir) {
-      const std::vector<double>& knots = dir == 0 ? s->knots_u() : s->knots_v();
-      const int degree = dir == 0 ? s->degree_u() : s->degree_v();
-      const int across = dir == 0 ? s->number_of_poles_v() : s->number_of_poles_u();
-      const double lo = dir == 0 ? s->u_min() : s->v_min(), hi = dir == 0 ? s->u_max() : s->v_max();
-      auto pole = [&](int along, int row) -> Vec3 {
-        const Point_3& p = dir == 0 ? s->pole(along, row) : s->pole(row, along);
-        return Vec3(p.x(), p.y(), p.z());
-      };
-      for (std::size_t i = 0; i < knots.size();) {
-        std::size_t j = i;
-        while (j < knots.size() && knots[j] == knots[i]) ++j;
-        const int multiplicity = static_cast<int>(j - i);
-        if (knots[i] > lo && knots[i] < hi && multiplicity >= degree) {
-          bool folds = multiplicity > degree;
-          const int at = static_cast<int>(i) - 1;  // the pole the surface passes through there
-          for (int r = 0; r < across && !folds; ++r) {
-            const Vec3 in = pole(at, r) - pole(at - 1, r), out = pole(at + 1, r) - pole(at, r);
-            if (in == Vec3::Zero() && out == Vec3::Zero()) continue;  // a collapsed row (a pole)
-            const double scale = in.norm() * out.norm();
-            folds = !(in.dot(out) > 0.0) || in.cross(out).norm() > 1e-13 * scale;
-          }
-          if (folds) m_kinks[k][dir].push_back(knots[i]);
-        }
-        i = j;
-      }
-    }
+    for (int dir = 0; dir < 2; ++dir) m_kinks[k][dir] = fold_lines(*s, dir);
   }
   // Open sides (see Element::open_sides). A face's edges carry its boundary when every edge
   // that bounds it became a curve element or is degenerate (a pole). An edge the file gives no
