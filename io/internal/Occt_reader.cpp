@@ -472,7 +472,7 @@ Body convert_shape(const TopoDS_Shape& shape, Session& ss, const std::string& bo
             edge.same_parameter = BRep_Tool::SameParameter(e) && uv_same;
             edge.degenerate = BRep_Tool::Degenerated(e);
             double cf, cl;
-            Handle(Geom_Curve) c3 = BRep_Tool::Degenerated(e) ? nullptr : BRep_Tool::Curve(e, cf, cl);
+            Handle(Geom_Curve) c3 = edge.degenerate ? nullptr : BRep_Tool::Curve(e, cf, cl);
             if (!c3.IsNull() && cf < cl) {
               Handle(Geom_BSplineCurve) b3 = bspline_segment(c3, cf, cl);
               if (!b3.IsNull()) {
