@@ -144,7 +144,6 @@ TEST(SetDistance, ASpentTimeBudgetLeavesTheBoxBounds) {
                                         transformed(s.b.placed[1].hierarchy->box(), s.b.placed[1].pose));
   const Set_distance_result r = set_distance(s.a.placed, s.b.placed, tight(), ws, 1e-300);
   EXPECT_LE(r.work.body_pairs_queried, 1);
-  EXPECT_EQ(r.work.body_pairs_queried + r.work.body_pairs_bounded, 3);
   if (r.work.body_pairs_queried == 0) {
     EXPECT_EQ(r.body_a, -1);
     EXPECT_EQ(r.result.element_a, -1);
