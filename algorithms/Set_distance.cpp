@@ -103,10 +103,7 @@ Set_distance_result set_distance(const std::vector<Placed_body>& A,
     const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
     const Distance_result r =
         extremal_distance(*a.hierarchy, a.pose, *b.hierarchy, b.pose, query, workspace);
-    work.pairs_processed += r.pairs_processed;
-    work.nodes_created += r.nodes_created;
-    work.newton_runs += r.newton_runs;
-    work.intersection_attempts += r.intersection_attempts;
+    work.add(r);
     lowest.offer(r.lower_bound, r.status);
     if (r.element_a < 0) return;  // nothing below the cutoff
     if (!any || r.upper_bound < best.upper_bound) {
@@ -167,10 +164,7 @@ Signed_set_distance_result signed_set_distance(const std::vector<Placed_body>& A
     const Placed_body& b = B[static_cast<std::size_t>(pair.b)];
     const Signed_distance_result r =
         signed_distance(*a.body, *a.hierarchy, a.pose, *b.body, *b.hierarchy, b.pose, query);
-    work.pairs_processed += r.apart.pairs_processed;
-    work.nodes_created += r.apart.nodes_created;
-    work.newton_runs += r.apart.newton_runs;
-    work.intersection_attempts += r.apart.intersection_attempts;
+    work.add(r.apart);
     work.cells += r.cells;
     work.supports += r.supports;
     work.winding_cells += r.winding_cells;

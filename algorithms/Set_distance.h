@@ -42,6 +42,14 @@ struct Set_work {
   int body_pairs_queried = 0;  // body pairs given to the solver
   int body_pairs_bounded = 0;  // body pairs bounded by their boxes alone (beyond the best so
                                // far, or left when the time budget ran out)
+
+  // Adds a certified distance query's counters.
+  void add(const Distance_result& r) {
+    pairs_processed += r.pairs_processed;
+    nodes_created += r.nodes_created;
+    newton_runs += r.newton_runs;
+    intersection_attempts += r.intersection_attempts;
+  }
 };
 
 struct Set_distance_result {
