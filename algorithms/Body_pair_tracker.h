@@ -119,12 +119,16 @@ struct Body_pair_options {
     r.max_nodes = 3000;
     return r;
   }();
-  // The certified solver's request for the start and the audits.
+  // The certified solver's request for the start and the audits. Without the bounds about
+  // centres and axes of symmetry: with them the start at a ball's pole above a cylinder's cap
+  // centre (bench/stress_suite c0_cylinder) lands the tracker's first step 1.1e-6 off, a pole
+  // start-up transient not yet mended.
   Distance_request global = [] {
     Distance_request r;
     r.absolute_tolerance = 1e-7;
     r.relative_tolerance = 1e-7;
     r.max_nodes = 50000;
+    r.symmetry_bounds = false;
     return r;
   }();
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -63,6 +64,15 @@ Bbox_3 box_of(const Eigen::Vector4d* h, int n) {
     b += Bbox_3(c.x(), c.y(), c.z(), c.x(), c.y(), c.z());
   }
   return b;
+}
+
+double squared_diagonal(const Bbox_3& b) {
+  return Vec3(b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()).squaredNorm();
+}
+
+double max_abs_coordinate(const Bbox_3& b) {
+  return std::max({std::abs(b.xmin()), std::abs(b.ymin()), std::abs(b.zmin()), std::abs(b.xmax()),
+                   std::abs(b.ymax()), std::abs(b.zmax())});
 }
 
 Vec3 box_centre(const Bbox_3& b) {
@@ -205,6 +215,21 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
       add_piece(element, 1, piece.degree() + 1, 1, lo, hi, piece.homogeneous_poles());
     }
   }
+  // Centres and axes of symmetry of B-rep faces and curves (not of mesh triangles).
+  {
+    Bbox_3 all;
+    for (const Piece& p : m_pieces) all += p.box;
+    const double tol = 1e-9 * std::sqrt(squared_diagonal(all)) +
+                       1e3 * std::numeric_limits<double>::epsilon() * max_abs_coordinate(all);
+    for (Element& e : m_elements) {
+      Symmetry s;
+      if (e.kind == Element_kind::Face && e.index < static_cast<int>(body.faces.size()))
+        s = find_symmetry(*e.feature.surface());
+      else if (e.kind == Element_kind::Curve)
+        s = find_symmetry(*e.feature.curve());
+      if (s.any()) e.symmetry = symmetry_index(s, tol);
+    }
+  }
   // Interior knot lines where a face may fold (see reaches_kink).
   m_kinks.resize(m_elements.size());
   for (std::size_t k = 0; k < m_elements.size(); ++k) {
@@ -269,6 +294,17 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
   std::iota(ids.begin(), ids.end(), 0);
   m_tree.reserve(2 * m_pieces.size());
   build_tree(ids, 0, static_cast<int>(ids.size()));
+}
+
+int Distance_hierarchy::symmetry_index(const Symmetry& s, double tol) {
+  for (std::size_t k = 0; k < m_symmetries.size(); ++k) {
+    const Symmetry& t = m_symmetries[k];
+    if (t.kind == s.kind && (t.point - s.point).norm() <= tol &&
+        t.direction.cross(s.direction).norm() <= 1e-9)
+      return static_cast<int>(k);
+  }
+  m_symmetries.push_back(s);
+  return static_cast<int>(m_symmetries.size()) - 1;
 }
 
 bool Distance_hierarchy::on_body(int e, const double* q) const {

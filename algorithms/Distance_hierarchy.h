@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "algorithms/Feature.h"
+#include "algorithms/Symmetry.h"
 #include "kernel/Body.h"
 #include "kernel/Trim_region.h"
 #include "kernel/Types.h"
@@ -43,6 +44,9 @@ class Distance_hierarchy {
     unsigned open_sides = 0;
     // Its Bezier pieces: pieces()[first_piece .. first_piece + piece_count).
     int first_piece = 0, piece_count = 0;
+    // Its centre or axis of rotational symmetry: an index into symmetries(), -1 for none
+    // (mesh triangles and points have none).
+    int symmetry = -1;
   };
   struct Piece {  // one Bezier piece, body frame
     int element = -1;
@@ -72,6 +76,9 @@ class Distance_hierarchy {
   const std::vector<Piece>& pieces() const { return m_pieces; }
   const std::vector<Tree_node>& tree() const { return m_tree; }  // root at 0
   const Eigen::Vector4d* poles() const { return m_poles.data(); }
+  // The elements' distinct centres and axes of symmetry, body frame (a cylinder's side and
+  // caps share their axis).
+  const std::vector<Symmetry>& symmetries() const { return m_symmetries; }
   // Box of all control points, body frame.
   const Bbox_3& box() const { return m_tree.front().box; }
   // Whether parameters q of element e lie on the body: inside the patch domain and the trim for
@@ -99,6 +106,8 @@ class Distance_hierarchy {
 
  private:
   int build_tree(std::vector<int>& piece_ids, int begin, int end);
+  // The index of s in m_symmetries, added unless one within `tol` is there.
+  int symmetry_index(const Symmetry& s, double tol);
 
   std::string m_name;
   // Owned geometry (Elements' features point here; unique_ptr keeps addresses stable).
@@ -108,6 +117,7 @@ class Distance_hierarchy {
   // Per element and parameter direction: the interior C0 knot values, sorted (faces only).
   std::vector<std::array<std::vector<double>, 2>> m_kinks;
   std::vector<Element> m_elements;
+  std::vector<Symmetry> m_symmetries;
   std::vector<Piece> m_pieces;
   std::vector<Eigen::Vector4d, Eigen::aligned_allocator<Eigen::Vector4d>> m_poles;
   std::vector<Tree_node> m_tree;

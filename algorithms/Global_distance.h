@@ -20,6 +20,11 @@
 //     the line through their centroids, and where those gain nothing on the parent pair, each
 //     sub-patch's own normal: nearly parallel sheets that bend). A rational patch with positive
 //     weights lies in the convex hull of its Cartesian control points, so both are certified;
+//     and where one element's centre or axis of symmetry is (nearly) the other's, or the other
+//     is a point, the gap between the sub-patches' ranges of distances to it (Symmetry.h):
+//     exact on concentric spheres and coaxial cylinders, whose continuum of minima the hull
+//     bounds close only quadratically in the sub-patch size (one-shot queries only: a kept
+//     proof of it would decay by the whole motion);
 //   - upper bounds: on-surface corner points of the sub-patches, then a Newton polish of the pair
 //     (solve_pair_at_rest) on the whole face or curve whenever a pair beats the best so far;
 //   - near a Newton solution that may be the minimum: a parameter box on which |f_A - f_B|^2 is
@@ -94,7 +99,12 @@ struct Distance_request {
   double cutoff_floor = -HUGE_VAL;
   // Keep the proofs behind the result in the workspace (Distance_workspace::gradient_proofs,
   // bound_proofs), for a caller that checks them again after motion instead of solving again.
+  // Such a query takes no bounds about centres and axes of symmetry (see symmetry_bounds).
   bool keep_proofs = false;
+  // Bounds about a centre or axis of symmetry two elements share (Symmetry.h): they close on
+  // the continuum of minima of concentric and coaxial bodies. Off: the witness is the one the
+  // other bounds lead to (Body_pair_options::global: see there).
+  bool symmetry_bounds = true;
 };
 
 enum class Distance_status {

@@ -340,6 +340,13 @@ struct Kept_proofs {
     if (d) *d = X.apply_vector(k == 0 ? sp.du : sp.dv);
     return X.apply_point(sp.p);
   }
+  // The point of element e of A (its face, or a trim edge's curve) at parameters q.
+  Vec3 element_point(int e, const std::array<double, 2>& q) const {
+    const Feature& f = ha->elements()[e].feature;
+    const Vec3 p = f.surface() ? to_vec3(f.surface()->point(q[0], q[1]))
+                               : to_vec3(f.curve()->point(q[0]));
+    return X_WA.apply_point(p);
+  }
 };
 
 // Parameters on a 5 x 5 grid of a box.
@@ -409,11 +416,11 @@ TEST(DistanceFiles, BoundedPairsReboundedAfterMotionStayBelowTheirDistance) {
     const double spin = (motion.rotation() - Mat3::Identity()).norm();
     for (std::size_t i = 0; i < bounds.size(); i += stride) {
       const Bound_proof& p = bounds[i];
-      if (!k.is_face(p.a_element) || p.b_element < 0) continue;  // sampled on faces only
+      if (p.a_element < 0 || p.b_element < 0) continue;  // sampled on sub-patches only
       const double bound = bound_after_motion(p, motion, 0.0);
       double sampled = HUGE_VAL;
       for (int a = 0; a < 25; ++a) {
-        const Vec3 pa = k.point(0, grid(p.a_lo, p.a_hi, a / 5, a % 5), 0, nullptr);
+        const Vec3 pa = k.element_point(p.a_element, grid(p.a_lo, p.a_hi, a / 5, a % 5));
         for (int b = 0; b < 25; ++b)
           sampled = std::min(sampled, (pa - motion.apply_point(k.point(
                                                 1, grid(p.b_lo, p.b_hi, b / 5, b % 5), 0, nullptr)))
