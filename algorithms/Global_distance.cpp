@@ -141,6 +141,23 @@ double motion_rounding(const Vec3& c, double h, const Rigid_pose_3& motion, doub
   return 64.0 * std::numeric_limits<double>::epsilon() *
          (c.cwiseAbs().maxCoeff() + h + motion.translation().cwiseAbs().maxCoeff() + length);
 }
+
+
+// How much a rigid motion M of a centre or axis s changes the distance to it of any point of
+// the ball (c, r): |d(x, M s) - d(x, s)|. A centre: its displacement. An axis L (y0 the foot
+// of c, e its direction, D(y) = M y - y, k = |(R - I) e|): d(x, M L) <= d(x, L) + |D(p)| at p
+// the foot of x, and d(x, L) <= d(x, M L) + |D(p')| at p' = M^-1 of x's foot on M L; both lie
+// on L within r + (|c - y0| + r) k + |D(y0)| of y0 along it, and along L, D is affine:
+// |D(y0 + s e)| <= |D(y0)| + |s| k. A turn about L itself moves nothing.
+double symmetry_shift(const Symmetry& s, const Rigid_pose_3& M, const Vec3& c, double r) {
+  const Vec3 y0 = s.kind == Symmetry::Kind::Axis ? Vec3(s.point + (c - s.point).dot(s.direction) * s.direction)
+                                                 : s.point;
+  const double d0 = (M.apply_point(y0) - y0).norm();
+  if (s.kind != Symmetry::Kind::Axis) return d0;
+  const double k = (M.apply_vector(s.direction) - s.direction).norm();
+  const double reach = r + ((c - y0).norm() + r) * k + d0;
+  return d0 + reach * k;
+}
 }  // namespace
 
 double bound_after_motion(const Bound_proof& p, const Rigid_pose_3& motion, double length) {
@@ -161,7 +178,18 @@ double bound_after_motion(const Bound_proof& p, const Rigid_pose_3& motion, doub
   const Vec3 moved_c = motion.apply_point(bc);
   const Vec3 moved_h = motion.rotation().cwiseAbs() * bh;
   const double boxes = internal::box_distance(p.a_min, p.a_max, moved_c - moved_h, moved_c + moved_h);
-  return std::max({decayed, along, balls, boxes}) - rounding;
+  // About the symmetry: the side it does not move with sees it moved (B's by `motion`; with
+  // A's, B's points moved is A's symmetry moved back), which shifts those distances by at
+  // most symmetry_shift.
+  double radial = -HUGE_VAL;
+  if (p.symmetry_side == 1) {
+    const double w = symmetry_shift(p.symmetry, motion, p.a_centre, p.a_radius);
+    radial = std::max(p.b_range[0] - (p.a_range[1] + w), (p.a_range[0] - w) - p.b_range[1]);
+  } else if (p.symmetry_side == 0) {
+    const double w = symmetry_shift(p.symmetry, motion.inverse(), p.b_centre, p.b_radius);
+    radial = std::max((p.b_range[0] - w) - p.a_range[1], p.a_range[0] - (p.b_range[1] + w));
+  }
+  return std::max({decayed, along, balls, boxes, radial}) - rounding;
 }
 
 bool gradient_proof_holds(const Gradient_proof& p, const Rigid_pose_3& motion, double length,
@@ -505,8 +533,9 @@ class Solver {
   // element (Symmetry.h) that the other element nearly shares (near_symmetry), or against a
   // point; -infinity when there is none. Elsewhere it is one bound among others, worth less
   // than it costs (bench_global_distance's cylinder against torus: 13 to 19% more
-  // instructions for 3% fewer nodes).
-  double symmetry_bound(Live_node& a, Live_node& b);
+  // instructions for 3% fewer nodes). `keep`, if given, records the symmetry and ranges of
+  // the bound returned.
+  double symmetry_bound(Live_node& a, Live_node& b, Bound_proof* keep = nullptr);
   // Node n of `side`: its range about symmetry `id` of side `owner`.
   bool range_about(Live_node& n, int side, int owner, int id, double& lo, double& hi);
   void corner_candidates(const Live_node& a, const Live_node& b);
@@ -540,8 +569,7 @@ class Solver {
   bool holds_no_minimum(int ia, int ib, int side);
   // Distance_request::keep_proofs: the pair (a, b) bounded by L.
   // `normal`: the net normal lower_bound bounded this pair along, if any.
-  void keep_bound(const Live_node& a, const Live_node& b, double L,
-                  const Normal_gap* normal = nullptr);
+  void keep_bound(Live_node& a, Live_node& b, double L, const Normal_gap* normal = nullptr);
   void classify_meeting();
   void fill(Distance_result& r) const;
 
@@ -616,11 +644,8 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double par
   // About a centre or axis of symmetry: exact where the elements are concentric spheres or
   // coaxial cylinders, whose continuum of minima no bound above closes. Not gated on the
   // parent's bound: about a sphere's centre the hull bounds gain at every split, too little
-  // to close. Not where the bounds are kept (the tracker's restricted solves): checked again
-  // after motion, this one only decays by the whole displacement, where the pairs split
-  // instead keep proofs that last (on bench/compare (c), tried first: 2.2 times the restricted
-  // solves; tried last: 1.37 times).
-  if (m_req.symmetry_bounds && !m_req.keep_proofs) {
+  // to close.
+  if (m_req.symmetry_bounds) {
     L = std::max(L, symmetry_bound(a, b));
     if (L >= cutoff) return L;
   }
@@ -645,7 +670,7 @@ double Solver::lower_bound(Live_node& a, Live_node& b, double cutoff, double par
   return L;
 }
 
-double Solver::symmetry_bound(Live_node& a, Live_node& b) {
+double Solver::symmetry_bound(Live_node& a, Live_node& b, Bound_proof* keep) {
   double L = -HUGE_VAL;
   Live_node* nodes[2] = {&a, &b};
   for (int owner = 0; owner < 2; ++owner) {
@@ -687,8 +712,16 @@ double Solver::symmetry_bound(Live_node& a, Live_node& b) {
     }
     if (!(std::max(lo[owner] - std::sqrt(corner_hi), std::sqrt(corner_lo) - hi[owner]) > L))
       continue;
-    if (range_about(*nodes[other], other, owner, id, lo[other], hi[other]))
-      L = std::max({L, lo[1] - hi[0], lo[0] - hi[1]});
+    if (!range_about(*nodes[other], other, owner, id, lo[other], hi[other])) continue;
+    const double gap = std::max(lo[1] - hi[0], lo[0] - hi[1]);
+    if (!(gap > L)) continue;
+    L = gap;
+    if (keep != nullptr) {
+      keep->symmetry_side = owner;
+      keep->symmetry = placed;
+      keep->a_range = {lo[0], hi[0]};
+      keep->b_range = {lo[1], hi[1]};
+    }
   }
   return L;
 }
@@ -1126,8 +1159,7 @@ bool Solver::holds_no_minimum(int ia, int ib, int side) {
   return false;
 }
 
-void Solver::keep_bound(const Live_node& a, const Live_node& b, double L,
-                        const Normal_gap* normal) {
+void Solver::keep_bound(Live_node& a, Live_node& b, double L, const Normal_gap* normal) {
   if (!m_req.keep_proofs) return;
   Bound_proof& p = m_scratch.bounds.emplace_back();
   p.lower = L;
@@ -1163,6 +1195,8 @@ void Solver::keep_bound(const Live_node& a, const Live_node& b, double L,
     p.gap = normal->gap;
     p.axis = normal->axis;
   }
+  // And the ranges about a shared symmetry, which outlast turns about it.
+  if (m_req.symmetry_bounds) symmetry_bound(a, b, &p);
 }
 
 // Gauss-Newton on f(x_A) = h(x_B) from the centres of the two nodes: a common point ends the
@@ -1402,12 +1436,12 @@ Distance_result Solver::run() {
       if (top.lower <= m_resolution && m_best.distance > m_resolution &&
           m_intersection_attempts < 64 && (a.depth + b.depth) % 3 == 0) {
         if (try_intersection(a, b)) {
-          keep_bound(a, b, top.lower);
+          keep_bound(m_side[0].pools->nodes[top.a], m_side[1].pools->nodes[top.b], top.lower);
           break;
         }
       }
       if (m_best.distance <= m_resolution) {
-        keep_bound(a, b, top.lower);
+        keep_bound(m_side[0].pools->nodes[top.a], m_side[1].pools->nodes[top.b], top.lower);
         break;
       }
     }
@@ -1415,7 +1449,7 @@ Distance_result Solver::run() {
     const bool sb = m_side[1].splittable(b, m_resolution);
     if (!sa && !sb) {
       dropped = std::min(dropped, top.lower);
-      keep_bound(a, b, top.lower);
+      keep_bound(m_side[0].pools->nodes[top.a], m_side[1].pools->nodes[top.b], top.lower);
       continue;
     }
     const int which = (sa && (!sb || a.size >= b.size)) ? 0 : 1;

@@ -23,8 +23,8 @@
 //     and where one element's centre or axis of symmetry is (nearly) the other's, or the other
 //     is a point, the gap between the sub-patches' ranges of distances to it (Symmetry.h):
 //     exact on concentric spheres and coaxial cylinders, whose continuum of minima the hull
-//     bounds close only quadratically in the sub-patch size (one-shot queries only: a kept
-//     proof of it would decay by the whole motion);
+//     bounds close only quadratically in the sub-patch size (a kept proof of it records the
+//     ranges, which a turn about the shared axis leaves whole: Bound_proof);
 //   - upper bounds: on-surface corner points of the sub-patches, then a Newton polish of the pair
 //     (solve_pair_at_rest) on the whole face or curve whenever a pair beats the best so far;
 //   - near a Newton solution that may be the minimum: a parameter box on which |f_A - f_B|^2 is
@@ -99,7 +99,6 @@ struct Distance_request {
   double cutoff_floor = -HUGE_VAL;
   // Keep the proofs behind the result in the workspace (Distance_workspace::gradient_proofs,
   // bound_proofs), for a caller that checks them again after motion instead of solving again.
-  // Such a query takes no bounds about centres and axes of symmetry (see symmetry_bounds).
   bool keep_proofs = false;
   // Bounds about a centre or axis of symmetry two elements share (Symmetry.h): they close on
   // the continuum of minima of concentric and coaxial bodies. Off: the witness is the one the
@@ -192,6 +191,12 @@ struct Bound_proof {
   // bound decays only by the motion along it.
   Vec3 axis = Vec3::Zero();
   double gap = -HUGE_VAL;
+  // The sub-patches' ranges of distances to a centre or axis of symmetry (Symmetry.h; world at
+  // the query) that moves with A (symmetry_side 0) or with B (1); -1: none. Where the motion
+  // turns B about the axis (a shaft spinning in its bore) this bound does not decay at all.
+  int symmetry_side = -1;
+  Symmetry symmetry;
+  std::array<double, 2> a_range{{0, 0}}, b_range{{0, 0}};
   // The sub-patches' parameter boxes (a curve's second parameter: 0 to 0; a group of the
   // hierarchy above the elements: element -1).
   int a_element = -1, b_element = -1;

@@ -359,6 +359,72 @@ TEST(GlobalDistance, ConcentricAndCoaxialBodiesConvergeAtTightTolerance) {
   }
 }
 
+// Kept bounds about a shared axis (a shaft in its bore), re-bounded after motion
+// (bound_after_motion): never above the distance sampled on the two moved sub-patches, and
+// after a pure turn of the shaft about the axis still the gap between their distance ranges.
+TEST(GlobalDistance, BoundsAboutAnAxisOutlastTurnsAboutIt) {
+  auto rng = test::seeded_rng();
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const Body bore = make_cylinder_body(2.0, 8.0), shaft = make_cylinder_body(1.0, 4.0);
+  const Distance_hierarchy ha(bore), hb(shaft);
+  const Rigid_pose_3 X_WA = random_pose(rng, 10.0);
+  const Rigid_pose_3 X_WB = X_WA * translation(0, 0, 2);
+  Distance_request req;
+  req.keep_proofs = true;
+  Distance_workspace ws;
+  const Distance_result r = extremal_distance(ha, X_WA, hb, X_WB, req, ws);
+  ASSERT_EQ(r.status, Distance_status::Converged) << to_string(r.status);
+  EXPECT_NEAR(r.distance, 1.0, 1e-9);
+  std::vector<Bound_proof> kept;
+  for (const Bound_proof& p : ws.bound_proofs())
+    if (p.symmetry_side >= 0 && p.a_element >= 0 && p.b_element >= 0) kept.push_back(p);
+  ASSERT_GE(kept.size(), 10u);
+  // A point of element e of side (0 bore, 1 shaft) at the grid point (i, j) of [lo, hi], placed
+  // by X (the side's pose, the shaft's after the motion).
+  const auto point = [&](int side, int e, const std::array<double, 2>& lo,
+                         const std::array<double, 2>& hi, int i, int j, const Rigid_pose_3& X) {
+    const Feature& f = (side == 0 ? ha : hb).elements()[e].feature;
+    const double u = lo[0] + (hi[0] - lo[0]) * i / 4, v = lo[1] + (hi[1] - lo[1]) * j / 4;
+    return X.apply_point(f.surface() ? to_vec3(f.surface()->point(u, v)) : to_vec3(f.curve()->point(u)));
+  };
+  const Vec3 axis = X_WA.apply_vector(Vec3::UnitZ()), on_axis = X_WA.translation();
+  int checked = 0, kept_whole = 0, turns = 0;
+  for (int m = 0; m < 24; ++m) {
+    // A turn of the shaft about the common axis, then (but for every third motion) a small
+    // rigid motion of it of another kind.
+    const Rigid_pose_3 about(Eigen::AngleAxisd(0.5 * unit(rng), axis).toRotationMatrix(), Vec3::Zero());
+    Rigid_pose_3 motion = translation(on_axis.x(), on_axis.y(), on_axis.z()) * about *
+                          translation(-on_axis.x(), -on_axis.y(), -on_axis.z());
+    const bool pure = m % 3 == 0;
+    if (!pure) {
+      const double scale = m % 3 == 1 ? 1e-3 : 0.1;
+      const Vec3 w = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+      motion = Rigid_pose_3(Eigen::AngleAxisd(scale * unit(rng), w).toRotationMatrix(),
+                            scale * Vec3(unit(rng), unit(rng), unit(rng))) * motion;
+    }
+    for (const Bound_proof& p : kept) {
+      const double bound = bound_after_motion(p, motion, 0.0);
+      double sampled = HUGE_VAL;
+      for (int a = 0; a < 25; ++a) {
+        const Vec3 pa = point(0, p.a_element, p.a_lo, p.a_hi, a / 5, a % 5, X_WA);
+        for (int b = 0; b < 25; ++b)
+          sampled = std::min(
+              sampled, (pa - point(1, p.b_element, p.b_lo, p.b_hi, b / 5, b % 5, motion * X_WB)).norm());
+      }
+      ASSERT_LE(bound, sampled + 1e-12) << "motion " << m;
+      ++checked;
+      if (pure) {
+        ++turns;
+        const double gap = std::max(p.b_range[0] - p.a_range[1], p.a_range[0] - p.b_range[1]);
+        if (bound >= gap - 1e-12) ++kept_whole;
+      }
+    }
+  }
+  std::printf("[ case     ] %zu bounds about the axis; %d re-bounded, %d of %d after pure turns "
+              "whole\n", kept.size(), checked, kept_whole, turns);
+  EXPECT_EQ(kept_whole, turns);
+}
+
 TEST(GlobalDistance, SphereInTheHoleOfATorusOffTheAxis) {
   // Off the axis the minimum is isolated (plus a worse local minimum across the hole, and
   // saddles): tight tolerances are cheap.
