@@ -131,6 +131,21 @@ constexpr int k_crease_nodes = 200;
 // its minimum is then about d e^2 / 2, far below the seeding tolerance.
 constexpr double k_converged_error = 1e-6;
 
+// The line B turns about relative to A (world, kind Axis; none when they do not turn
+// relatively): the screw axis of the relative twist, through w x v(0) / |w|^2 along w.
+Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& V_B,
+                   const Rigid_pose_3& X_WB) {
+  const Vec3 w = V_B.angular - V_A.angular;
+  const double w2 = w.squaredNorm();
+  const Vec3 v0 = V_B.velocity_at(Vec3::Zero(), X_WB) - V_A.velocity_at(Vec3::Zero(), X_WA);
+  Symmetry s;
+  if (!(w2 > 0.0) || !std::isfinite(w2)) return s;
+  s.kind = Symmetry::Kind::Axis;
+  s.direction = w / std::sqrt(w2);
+  s.point = w.cross(v0) / w2;
+  return s;
+}
+
 bool closed_form_pair(const Primitive& a, const Primitive& b) {
   const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
   return (ta && (tb || b.kind == Primitive_kind::Point)) || (tb && a.kind == Primitive_kind::Point);
@@ -431,6 +446,9 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                               m_options.seeding.relative_tolerance * best);
   const double need = best - tol;  // a pair certified at or above this holds nothing closer
   bool seeded = false;
+  const Symmetry turning = m_VA != nullptr && m_VB != nullptr
+                               ? turn_axis(*m_VA, X_WA, *m_VB, X_WB)
+                               : Symmetry();
   for (Candidate& C : m_candidates) {
     if (C.tracked) continue;
     const int pa = key_a(C.key), pb = key_b(C.key);
@@ -496,6 +514,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
     request.keep_proofs = true;
+    request.motion_axis = turning;
     request.cutoff = need + slack;
     // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
     request.carried_min_reach = std::min(slack, k_reach_steps * step_motion);

@@ -119,6 +119,7 @@ struct Distance_scratch {
   std::vector<Bound_proof> bounds;     // Distance_workspace::bound_proofs
   std::vector<int> sub_patches[2];     // Side::sub_patch's tables
   std::vector<Symmetry> placed[2];     // each side's Distance_hierarchy::symmetries(), world
+  std::vector<char> along_motion[2];   // of those, the ones along Distance_request::motion_axis
 };
 
 }  // namespace internal
@@ -679,15 +680,17 @@ double Solver::symmetry_bound(Live_node& a, Live_node& b, Bound_proof* keep) {
     const int other = 1 - owner;
     const Distance_hierarchy::Element& e = m_side[other].h->elements()[nodes[other]->element];
     const int other_id = e.kind == Element_kind::Point ? -2 : e.symmetry;
-    if (other_id == -1) continue;
-    Live_node& own = *nodes[owner];
-    if (own.near_of != other_id) {  // a node meets many nodes of one other element in a row
-      own.near_of = other_id;
-      own.near = other_id == -2 ||
-                 near_symmetry(m_scratch.placed[owner][id], m_scratch.placed[other][other_id],
-                               k_near_symmetry * m_size[owner]);
+    if (!m_scratch.along_motion[owner][id]) {
+      if (other_id == -1) continue;
+      Live_node& own = *nodes[owner];
+      if (own.near_of != other_id) {  // a node meets many nodes of one other element in a row
+        own.near_of = other_id;
+        own.near = other_id == -2 ||
+                   near_symmetry(m_scratch.placed[owner][id], m_scratch.placed[other][other_id],
+                                 k_near_symmetry * m_size[owner]);
+      }
+      if (!own.near) continue;
     }
-    if (!own.near) continue;
     double lo[2], hi[2];
     if (!range_about(*nodes[owner], owner, owner, id, lo[owner], hi[owner])) continue;
     // The other sub-patch's range (the costly part) holds the distances of its points: of its
@@ -1336,8 +1339,13 @@ Distance_result Solver::run() {
     m_size[side] = Vec3(box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()).norm();
     const std::vector<Symmetry>& own = m_side[side].h->symmetries();
     m_scratch.placed[side].resize(own.size());
-    for (std::size_t k = 0; k < own.size(); ++k)
+    m_scratch.along_motion[side].resize(own.size());
+    for (std::size_t k = 0; k < own.size(); ++k) {
       m_scratch.placed[side][k] = own[k].placed(*m_side[side].X);
+      m_scratch.along_motion[side][k] =
+          m_req.motion_axis.any() && near_symmetry(m_req.motion_axis, m_scratch.placed[side][k],
+                                                   k_near_symmetry * m_size[side]);
+    }
   }
 
   // Floating-point resolution of the scene: coordinates are good to a few ulps of their size.

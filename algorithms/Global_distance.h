@@ -104,6 +104,11 @@ struct Distance_request {
   // the continuum of minima of concentric and coaxial bodies. Off: the witness is the one the
   // other bounds lead to (Body_pair_options::global: see there).
   bool symmetry_bounds = true;
+  // The line (world, kind Axis) the bodies' relative motion turns about, when the caller knows
+  // it (Body_pair_tracker, from the twists): bounds about a symmetry of either element along
+  // it are taken against every other element too, since that turn leaves them whole (kept,
+  // they outlast it; elsewhere only shared symmetries are worth their cost).
+  Symmetry motion_axis;
 };
 
 enum class Distance_status {

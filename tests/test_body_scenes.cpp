@@ -17,6 +17,7 @@
 #include "experiments/Egg_crate.h"
 #include "kernel/Trim_region.h"
 #include "io/Model_reader.h"
+#include "kernel/Bracket.h"
 #include "kernel/Error.h"
 #include "kernel/Motion.h"
 #include "kernel/Nurbs_refinement.h"
@@ -364,6 +365,36 @@ TEST(BodyScenes, AFacePointLeavingAtACornerGoesToTheEdgeItSlidesOn) {
   // Both parts have many corners where two edges of a face meet.
   std::printf("[ case     ] %d face corners\n", corners);
   EXPECT_GE(corners, 20);
+}
+
+// A pin lying in the bracket's concave fillet, coaxial with it, spinning about its axis
+// (bench/scenes/pin_in_fillet_spin.json): 0.6 from the fillet, the slot floor and the slot wall
+// along whole lines. The restricted solves that check the floor and wall pairs take bounds
+// about the turning axis (Distance_request::motion_axis, from the twists), which the turn
+// leaves whole, so they are not solved again step after step: 83 restricted solves in 200
+// steps, 2,400 without the axis.
+TEST(BodyScenes, APinSpinningInAFilletIsNotSolvedAgainEveryStep) {
+  const Body bracket = make_bracket_body(), pin = make_cylinder_body(0.4, 8.0, "pin");
+  Body_pair_tracker tracker(bracket, pin);
+  const Rigid_pose_3 X_WA;
+  const Rigid_pose_3 lying(Eigen::AngleAxisd(-0.5 * k_pi, Vec3::UnitX()).toRotationMatrix(),
+                           Vec3(1.5, -4.0, 2.0));
+  Twist_3 V_B;
+  V_B.angular = Vec3(0.0, 2.0, 0.0);  // about the pin's axis, through its origin
+  const double dt = 1e-3;
+  const Pair_report* r = nullptr;
+  for (int i = 0; i < 200; ++i) {
+    const double t = i * dt;
+    const Rigid_pose_3 X_WB(Eigen::AngleAxisd(2.0 * t, Vec3::UnitY()).toRotationMatrix() *
+                                lying.rotation(),
+                            lying.translation());
+    r = &tracker.step(t, X_WA, Twist_3{}, X_WB, V_B, dt);
+    ASSERT_NEAR(r->distance, 0.6, 1e-9) << "step " << i;
+  }
+  std::printf("[ case     ] %ld checks, %ld restricted solves, %ld bounds checked again\n",
+              r->vacated_checks, r->vacated_solves, r->vacated_bound_checks);
+  EXPECT_GT(r->vacated_checks, 200);
+  EXPECT_LT(r->vacated_solves, 240);
 }
 
 TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
