@@ -532,8 +532,9 @@ class Solver {
   void project_on_axis(Live_node& n, int side);
   // The bound from both nets' distance ranges to a centre or axis of symmetry of either
   // element (Symmetry.h) that the other element nearly shares (near_symmetry), or against a
-  // point; -infinity when there is none. Elsewhere it is one bound among others, worth less
-  // than it costs (bench_global_distance's cylinder against torus: 13 to 19% more
+  // point, or that lies along Distance_request::motion_axis (against any element: kept, it
+  // outlasts that turn); -infinity when there is none. Elsewhere it is one bound among others,
+  // worth less than it costs (bench_global_distance's cylinder against torus: 13 to 19% more
   // instructions for 3% fewer nodes). `keep`, if given, records the symmetry and ranges of
   // the bound returned.
   double symmetry_bound(Live_node& a, Live_node& b, Bound_proof* keep = nullptr);
