@@ -893,11 +893,19 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
   ++m_report.broad_phases;
 }
 
+Distance_result Body_pair_tracker::global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  ++m_report.audits;
+  return extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(), X_WB,
+                           m_options.global, m_workspace);
+}
+
 bool Body_pair_tracker::seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                          double tracked) {
-  const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
-                                              X_WB, m_options.global, m_workspace);
-  ++m_report.audits;
+  return seed_from(global_solve(X_WA, X_WB), X_WA, X_WB, tracked);
+}
+
+bool Body_pair_tracker::seed_from(const Distance_result& g, const Rigid_pose_3& X_WA,
+                                  const Rigid_pose_3& X_WB, double tracked) {
   if (g.element_a < 0 || g.element_b < 0) return false;
   if (!(g.upper_bound < tracked - std::max(g.tolerance_used, g.upper_bound - g.lower_bound)))
     return false;
@@ -936,14 +944,11 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   m_proofs.clear();
   m_bounds.clear();
   m_started = true;
-  const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
-                                              X_WB, m_options.global, m_workspace);
-  ++m_report.audits;
+  const Distance_result g = global_solve(X_WA, X_WB);
   broad_phase(X_WA, X_WB, std::max(g.upper_bound, 0.0) + reach_margin());
-  // The certified pair, should the broad phase have missed it.
-  if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) {
-    // It seeds (or re-seeds) the global pair; duplicates merge after the first step.
-  }
+  // The certified pair, should the broad phase have missed it (duplicates merge after the
+  // first step).
+  seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
 }
 
 void Body_pair_tracker::step_live(int k) {

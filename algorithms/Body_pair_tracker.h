@@ -168,8 +168,13 @@ class Body_pair_tracker {
     Track_result result;
   };
   bool is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const;
-  // Runs the global solver; seeds a tracker on its pair when it beats `tracked` by more than its
+  // The global solver on the whole pair (Body_pair_options::global), counted as an audit.
+  Distance_result global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // Seeds a tracker on the pair of global result g when it beats `tracked` by more than its
   // tolerance. Returns true if it seeded.
+  bool seed_from(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                 double tracked);
+  // seed_from on a new global solve.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
   void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
   // Whether check_vacated can certify primitive pair (pa, pb) without a tracker: both have
