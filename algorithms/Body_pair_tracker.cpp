@@ -8,6 +8,7 @@
 #include <new>
 
 #include "algorithms/Triangle_distance.h"
+#include "algorithms/internal/Body_pair_support.h"
 
 namespace extremal {
 
@@ -33,24 +34,19 @@ std::vector<Feature> features_of(const Body& body) {
 
 namespace {
 
+using internal::approach_bound;
+using internal::box_diagonal;
+using internal::closed_form_pair;
+using internal::key_a;
+using internal::key_b;
+using internal::pair_key;
+using internal::params_from_global;
+
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
                                                       CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
 
-std::uint64_t pair_key(int a, int b) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
-}
-int key_a(std::uint64_t k) { return static_cast<int>(k >> 32); }
-int key_b(std::uint64_t k) { return static_cast<int>(k & 0xffffffffu); }
-
 Bbox_3 inflate(const Bbox_3& b, double r) {
   return Bbox_3(b.xmin() - r, b.ymin() - r, b.zmin() - r, b.xmax() + r, b.ymax() + r, b.zmax() + r);
-}
-
-double diagonal(const Bbox_3& b) {
-  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
-                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
-                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
 }
 
 bool same_pose(const Rigid_pose_3& x, const Rigid_pose_3& y) {
@@ -62,94 +58,10 @@ bool near_pose(const Rigid_pose_3& x, const Rigid_pose_3& y, double length) {
          (x.translation() - y.translation()).cwiseAbs().maxCoeff() <= 1e-14 * length;
 }
 
-// The relative motion from X0 to X1 (poses X_AB: B's frame in A's) for a primitive of A
-// (body-frame box box_a) and one of B (box_b): the largest displacement of a point of B's box
-// in A's frame (move_b) and of A's box in B's frame (move_a), and how much closer it can have
-// brought the two, the smaller of those. Over the ball (c, r) that holds a box,
-// |(R1 - R0) p + t1 - t0| <= |(R1 - R0) c + t1 - t0| + |R1 - R0|_F r. (Distances between
-// rigid placements depend on the relative pose only, and change by at most the largest
-// displacement of either side.)
-struct Approach {
-  double move_a = 0.0, move_b = 0.0, closer = 0.0;
-};
-Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_pose_3& X0,
-                        const Rigid_pose_3& X1) {
-  const Mat3 dR = X1.rotation() - X0.rotation();
-  const double spin = dR.norm();  // Frobenius, >= the spectral norm
-  const Vec3 ca(0.5 * (box_a.xmin() + box_a.xmax()), 0.5 * (box_a.ymin() + box_a.ymax()),
-                0.5 * (box_a.zmin() + box_a.zmax()));
-  const Vec3 cb(0.5 * (box_b.xmin() + box_b.xmax()), 0.5 * (box_b.ymin() + box_b.ymax()),
-                0.5 * (box_b.zmin() + box_b.zmax()));
-  const double ra = 0.5 * diagonal(box_a), rb = 0.5 * diagonal(box_b);
-  const Vec3& t0 = X0.translation();
-  const Vec3& t1 = X1.translation();
-  const double move_b = (dR * cb + (t1 - t0)).norm() + spin * rb;
-  // A in B's frame: X_BA = (R^T, -R^T t).
-  const Vec3 dt_inverse = X0.rotation().transpose() * t0 - X1.rotation().transpose() * t1;
-  const double move_a = (dR.transpose() * ca + dt_inverse).norm() + spin * ra;
-  // Rounding of these products: a few ulps of the lengths involved.
-  const double size = ca.norm() + ra + cb.norm() + rb + t0.norm() + t1.norm();
-  const double rounding = 16.0 * std::numeric_limits<double>::epsilon() * size;
-  Approach m;
-  m.move_a = move_a + rounding;
-  m.move_b = move_b + rounding;
-  m.closer = std::min(m.move_a, m.move_b);
-  return m;
-}
-
-// A pair's restricted solve is cut off at least this many steps' worth of the pair's relative
-// motion above the tracked minimum, so that its certified lower bound clears the next steps'
-// checks without a solve; nothing found below the cutoff costs little, and the next solve of
-// such a pair reaches k_slack_growth times higher (a far pair settles at its own minimum).
-constexpr double k_slack_steps = 8.0;
-constexpr double k_slack_growth = 4.0;
 // The broad phase reaches this fraction of the margin farther than it must, so that it runs
 // again only once the relative motion since has used that up (between runs the candidate set
 // holds some pairs beyond the reach, whose checks cost little).
 constexpr double k_broad_extra = 0.5;
-// Trim-edge set-asides of a usual restricted solve must outlast this many steps' motion.
-constexpr double k_reach_steps = 2.0;
-// A proving solve (see check_vacated) is cut off this many steps' motion above the tracked
-// minimum: higher, the pairs near a trim edge need deeper splits to clear it. Measured on
-// scenario (c) of bench/compare at 1 kHz (sub-patch nodes of the restricted solves): 2 steps
-// 442k, 1 step 468k, 4 steps 523k, 8 steps 794k, no proving solve 486k.
-constexpr double k_proving_steps = 2.0;
-// A crease solve (see check_vacated) is cut off this fraction of the broad-phase margin above
-// the tracked minimum, and sets sub-patch pairs aside only when their gradient proof lasts as
-// much relative motion: higher, the sub-patch pairs straddling the cutoff (where the gradient
-// is small) cost more; lower, the solves come more often. Measured on scenario (b) of
-// bench/compare (sub-patch nodes of the restricted solves, corrections rows), since the kept
-// proofs re-check bounds: an eighth 179k / 43.9k / 18.1k nodes at 10 kHz / 1 kHz / 100 Hz,
-// a quarter 243k / 49.4k / 17.3k, a sixteenth 152k / 44.7k / 18.9k, a half 372k / 62.8k.
-// (Before the kept proofs, callgrind had a quarter beat an eighth at 1 kHz.) Its node budget
-// (100: more solves fall back, 497k nodes at 10 kHz): spent, the solve still leaves the bound
-// it reached, or falls back to the usual solve.
-constexpr double k_crease_fraction = 0.125;
-constexpr int k_crease_nodes = 200;
-// A tracked pair carries a crease only when its tracker's normalised errors (sines of the
-// angles off stationarity) along its free parameters are below this: the distance it is above
-// its minimum is then about d e^2 / 2, far below the seeding tolerance.
-constexpr double k_converged_error = 1e-6;
-
-// The line B turns about relative to A (world, kind Axis; none when they do not turn
-// relatively): the screw axis of the relative twist, through w x v(0) / |w|^2 along w.
-Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& V_B,
-                   const Rigid_pose_3& X_WB) {
-  const Vec3 w = V_B.angular - V_A.angular;
-  const double w2 = w.squaredNorm();
-  const Vec3 v0 = V_B.velocity_at(Vec3::Zero(), X_WB) - V_A.velocity_at(Vec3::Zero(), X_WA);
-  Symmetry s;
-  if (!(w2 > 0.0) || !std::isfinite(w2)) return s;
-  s.kind = Symmetry::Kind::Axis;
-  s.direction = w / std::sqrt(w2);
-  s.point = w.cross(v0) / w2;
-  return s;
-}
-
-bool closed_form_pair(const Primitive& a, const Primitive& b) {
-  const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
-  return (ta && (tb || b.kind == Primitive_kind::Point)) || (tb && a.kind == Primitive_kind::Point);
-}
 
 void triangle_corners(const Tracking_model& m, const Primitive& p, const Rigid_pose_3& X, Vec3 out[3]) {
   const auto& tri = m.body().mesh.triangles[p.index];
@@ -193,7 +105,7 @@ Body_pair_tracker::Body_pair_tracker(Body_pair_tracker&&) noexcept = default;
 
 double Body_pair_tracker::reach_margin() const {
   if (m_options.broad_margin > 0.0) return m_options.broad_margin;
-  return 0.02 * std::min(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+  return 0.02 * std::min(box_diagonal(m_model_a->box()), box_diagonal(m_model_b->box()));
 }
 
 bool Body_pair_tracker::is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const {
@@ -231,17 +143,6 @@ void Body_pair_tracker::kill(int k) {
 }
 
 namespace {
-
-// A global result's parameters on a primitive (the global solver's triangles are degree 1 x 1
-// patches with corners p0, p2 | p1, p2: (u, v) there is (u (1 - v), v) here).
-void params_from_global(const Primitive& p, const std::array<double, 2>& q, double* out) {
-  if (p.kind == Primitive_kind::Triangle) {
-    out[0] = q[0] * (1.0 - q[1]);
-    out[1] = q[1];
-    return;
-  }
-  for (int k = 0; k < p.feature.dimension(); ++k) out[k] = q[k];
-}
 
 // Sampled closest pair of two features, polished by Newton at rest (pairs the global solver
 // has no element for: mesh edges).
@@ -361,426 +262,6 @@ void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   prefer_central(pa, pb, X_WA, X_WB, params);
   add_live(pa, pb, params);
   ++m_report.seeds;
-}
-
-bool Body_pair_tracker::tracks_converged(int pa, int pb) const {
-  for (const Live& L : m_live) {
-    if (!L.alive || !L.valid || L.closed_form || L.pa != pa || L.pb != pb) continue;
-    // Converged along every parameter not held on a domain bound (one held there keeps the
-    // crease's projection error): a tracker lagging behind its minimum (no corrections, a low
-    // gain) may sit above a point of its own pair, the crease among them.
-    const Feature& fa = m_model_a->primitives()[pa].feature;
-    const Feature& fb = m_model_b->primitives()[pb].feature;
-    const int na = fa.dimension();
-    bool converged = true;
-    for (int k = 0; k < na + fb.dimension() && converged; ++k) {
-      const Feature& f = k < na ? fa : fb;
-      const int j = k < na ? k : k - na;
-      const double q = L.result.params[k];
-      if (!f.is_closed(j) && (q <= f.lower(j) || q >= f.upper(j))) continue;
-      converged = std::abs(L.result.normalised_errors[k]) <= k_converged_error;
-    }
-    if (converged) return true;
-  }
-  return false;
-}
-
-unsigned Body_pair_tracker::carried_sides(int side, int p, int other, double tol) const {
-  const Primitive& P = (side == 0 ? *m_model_a : *m_model_b).primitives()[p];
-  if (!P.is_surface()) return 0u;
-  unsigned mask = 0u;
-  for (int s = 0; s < 4; ++s) {
-    const int n = P.side_neighbour[s];
-    if (n < 0 || !(P.side_gap[s] <= 0.25 * tol)) continue;
-    if (side == 0 ? tracks_converged(n, other) : tracks_converged(other, n)) mask |= 1u << s;
-  }
-  return mask;
-}
-
-bool Body_pair_tracker::carriers_tracked(const Candidate& C) const {
-  const int pa = key_a(C.key), pb = key_b(C.key);
-  for (int side = 0; side < 2; ++side) {
-    const unsigned mask = C.carried[side];
-    if (!mask) continue;
-    const Primitive& P = (side == 0 ? *m_model_a : *m_model_b).primitives()[side == 0 ? pa : pb];
-    for (int s = 0; s < 4; ++s) {
-      if (!(mask & (1u << s))) continue;
-      const int n = P.side_neighbour[s];
-      if (!(side == 0 ? tracks_converged(n, pb) : tracks_converged(pa, n))) return false;
-    }
-  }
-  return true;
-}
-
-bool Body_pair_tracker::certifiable(int pa, int pb) const {
-  const Primitive& A = m_model_a->primitives()[pa];
-  const Primitive& B = m_model_b->primitives()[pb];
-  return A.global_element >= 0 && B.global_element >= 0 && !closed_form_pair(A, B);
-}
-
-void Body_pair_tracker::mark_tracked() {
-  for (Candidate& c : m_candidates) c.tracked = false;
-  for (const Live& L : m_live) {
-    if (!L.alive) continue;
-    const int i = find_candidate(pair_key(L.pa, L.pb));
-    if (i >= 0) m_candidates[i].tracked = true;
-  }
-}
-
-bool Body_pair_tracker::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
-  mark_tracked();
-  bool seeded = false;
-  for (Candidate& C : m_candidates) {
-    if (C.tracked || C.contact_seeded) continue;
-    C.contact_seeded = true;
-    seed_pair(key_a(C.key), key_b(C.key), X_WA, X_WB);
-    seeded = true;
-  }
-  return seeded;
-}
-
-void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                      double best) {
-  mark_tracked();
-  const double tol = std::max(m_options.seeding.absolute_tolerance,
-                              m_options.seeding.relative_tolerance * best);
-  const double need = best - tol;  // a pair certified at or above this holds nothing closer
-  bool seeded = false;
-  const Symmetry turning = m_VA != nullptr && m_VB != nullptr
-                               ? turn_axis(*m_VA, X_WA, *m_VB, X_WB)
-                               : Symmetry();
-  for (Candidate& C : m_candidates) {
-    if (C.tracked) continue;
-    const int pa = key_a(C.key), pb = key_b(C.key);
-    if (!certifiable(pa, pb)) continue;
-    const Primitive& A = m_model_a->primitives()[pa];
-    const Primitive& B = m_model_b->primitives()[pb];
-    ++m_report.vacated_checks;
-    // The bound carried from an earlier step, less how much closer the pair can have come;
-    // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
-    // side shared with a face whose pair is tracked) stay so while the relative motion is
-    // below their gradient's reach and the carrying pairs are still tracked (see below).
-    const Approach moved = approach_bound(A.box, B.box, C.at, m_relative);
-    bool clear = C.lower - moved.closer >= need;
-    if (!clear && C.bound_count > 0) {
-      // The decay assumed the worst direction of motion for the whole pair: its last solve's
-      // bounded sub-patch pairs, re-bounded at this pose, often still clear it.
-      const double now = bounds_now(C, need);
-      if (now >= need) {
-        clear = true;
-        ++m_report.vacated_bound_checks;
-        C.lower = now;
-        C.at = m_relative;
-      }
-    }
-    if (clear && carriers_tracked(C)) {
-      const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
-      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_relative) : moved;
-      if (since.move_b < C.reach[0] && since.move_a < C.reach[1]) continue;
-      // Past the reach, which assumed the worst direction of motion: the set-aside pairs
-      // checked again at this pose (the other box moved rigidly) usually still hold.
-      std::array<double, 2> reach;
-      if (proofs_hold(C, reach)) {
-        ++m_report.vacated_proof_checks;
-        C.reach = reach;
-        C.reach_at = m_relative;
-        continue;
-      }
-    }
-    const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
-    if (boxes >= need) {
-      C.lower = boxes;
-      C.at = m_relative;
-      C.reach = {HUGE_VAL, HUGE_VAL};
-      C.reach_at = m_relative;
-      C.carried = {0u, 0u};
-      C.proof_count = C.bound_count = C.solve_count = 0;
-      continue;
-    }
-    // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
-    // pair when it holds something closer than the tracked minimum, and otherwise leaves a
-    // lower bound that stays clear of `need` for the next steps.
-    ++m_report.vacated_solves;
-    if (clear) ++m_report.vacated_reach_solves;
-    const double step_motion = approach_bound(A.box, B.box, m_previous_relative, m_relative).closer;
-    // At most the broad phase's margin: a cutoff far above the minimum would have the solver
-    // settle every pair below it. When one step's motion exceeds that margin (low rates) the
-    // bound cannot outlast the step anyway: cut off at `need` itself.
-    const double cap = reach_margin();
-    const double slack =
-        step_motion >= cap
-            ? 4.0 * tol
-            : std::max(4.0 * tol,
-                       std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
-    Distance_request request = m_options.seeding;
-    request.keep_proofs = true;
-    request.motion_axis = turning;
-    request.cutoff = need + slack;
-    // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
-    request.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
-    // Crease ties. A face sharing a patch side with a face whose pair with the same other
-    // primitive is tracked (a C0 join of a multi-patch body) has its minimum on that side when
-    // the tracked point sits there: it ties the tracked minimum and no bound of the pair can
-    // clear it. Such sides are declared carried: sub-patch pairs over which the gradient of the
-    // squared distance along this face's parameters provably does not vanish, touching no other
-    // side, are set aside, and the others are settled at the cutoff (the floor: a witness at or
-    // above `need`, such as the tie itself, does not stop the solve). Why that is exact: were
-    // the pair's minimum x* below `need`, it would lie in a set-aside sub-patch pair (the others
-    // are bounded above it), where a non-vanishing gradient component puts a minimiser on the
-    // domain boundary, i.e. on a carried side (no other side is touched); that side is the
-    // tracked neighbour's too (within side_gap <= tol / 4), so the tracked pair would hold a
-    // point below its tracked minimum by more than the tolerance - what every tracked pair is
-    // taken not to do (check_vacated never checks tracked pairs), required here of a converged
-    // tracker only (tracks_converged: a lagging one may sit above the crease). After motion,
-    // the gradient keeps its sign while the other primitive has moved less than the reach the
-    // solve reports, and the other pairs' bound decays as before; a deeper minimum of the face
-    // away from the side is found as any other basin (its pairs are neither set aside nor
-    // above it).
-    // The pair's elements whole, or only the sub-patch pairs in m_restarts (`partial`).
-    auto solve = [&](const Distance_request& r, bool partial) {
-      const Distance_hierarchy& ha = m_model_a->hierarchy();
-      const Distance_hierarchy& hb = m_model_b->hierarchy();
-      Distance_result result =
-          partial ? extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                              B.global_element, m_restarts, r, m_workspace)
-                  : extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                              B.global_element, r, m_workspace);
-      m_report.vacated_nodes += result.nodes_created;
-      return result;
-    };
-    unsigned carried_a = carried_sides(0, pa, pb, tol);
-    unsigned carried_b = carried_sides(1, pb, pa, tol);
-    const bool carrying = (carried_a | carried_b) != 0u;
-    // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
-    // edge) would likewise be solved to its witness there every time: it is proved against a
-    // cutoff too (floor `need`), its pairs at the edge set aside by their gradient. Untrimmed
-    // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
-    const bool trimmed = m_model_a->hierarchy().elements()[A.global_element].trimmed ||
-                         m_model_b->hierarchy().elements()[B.global_element].trimmed;
-    Distance_request first = request;
-    if (carrying || trimmed) {
-      first.cutoff_floor = need;
-      first.max_nodes = k_crease_nodes;
-      if (carrying) {
-        first.carried_sides = {carried_a, carried_b};
-        // Cutoff and gradient reach alike (the motion either proof outlasts).
-        const double crease_slack =
-            step_motion >= cap ? 4.0 * tol : std::max(4.0 * tol, k_crease_fraction * cap);
-        first.cutoff = need + crease_slack;
-        first.carried_min_reach = crease_slack;
-        ++m_report.vacated_crease_solves;
-      } else {
-        first.cutoff = need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion));
-        first.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
-      }
-    }
-    // Where the pair's kept proofs still clear the cutoff at this pose, only the sub-patch
-    // pairs whose proofs fail are solved again: the kept ones cover the rest of the domain.
-    // (Proofs kept for other carried sides rest on other trackers: not kept.) Pruned at the
-    // cutoff less the tolerance, as the solver prunes.
-    double kept_lower = HUGE_VAL;
-    std::array<double, 2> kept_reach{{HUGE_VAL, HUGE_VAL}};
-    const bool partial =
-        C.carried[0] == carried_a && C.carried[1] == carried_b &&
-        plan_partial_solve(C, A.global_element, B.global_element, first.cutoff - tol,
-                           first.carried_min_reach, first.max_nodes, kept_lower, kept_reach);
-    Distance_result g = solve(first, partial);
-    bool kept = partial;
-    // A proving solve not settled within its budget (a stationary point of the pair between
-    // the tracked minimum and the cutoff): the usual solve, to the witness. (Kept proofs are
-    // at or above the cutoff.)
-    if ((carrying || trimmed) && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
-      g = solve(request, false);
-      carried_a = carried_b = 0u;
-      kept = false;
-    }
-    if (kept) ++m_report.vacated_partial_solves;
-    C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
-    C.at = m_relative;
-    C.reach = g.carried_reach;
-    if (kept)
-      for (int side = 0; side < 2; ++side) C.reach[side] = std::min(C.reach[side], kept_reach[side]);
-    C.reach_at = m_relative;
-    C.carried = {carried_a, carried_b};
-    keep_proofs(C, Solve_pose{X_WA, m_relative}, kept);
-    C.slack = g.element_a < 0 ? slack : 0.0;
-    if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
-    Vec4 params = Vec4::Zero();
-    params_from_global(A, g.params_a, params.data());
-    params_from_global(B, g.params_b, params.data() + A.feature.dimension());
-    add_live(pa, pb, params);
-    ++m_report.seeds;
-    ++m_report.vacated_seeds;
-    C.tracked = true;
-    seeded = true;
-  }
-  if (seeded) step_pending();
-}
-
-const Rigid_pose_3& Body_pair_tracker::Motions::b(int k) {
-  if (!(m_made_b & (1u << k))) {
-    // X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
-    const Solve_pose& s = m_c.solves[k];
-    m_length[k] = s.a.translation().cwiseAbs().maxCoeff() +
-                  m_relative.translation().cwiseAbs().maxCoeff() +
-                  s.relative.translation().cwiseAbs().maxCoeff();
-    new (&m_b[k].pose) Rigid_pose_3(s.a * m_relative * s.relative.inverse() * s.a.inverse());
-    m_made_b |= 1u << k;
-  }
-  return m_b[k].pose;
-}
-
-const Rigid_pose_3& Body_pair_tracker::Motions::a(int k) {
-  if (!(m_made_a & (1u << k))) {
-    new (&m_a[k].pose) Rigid_pose_3(b(k).inverse());
-    m_made_a |= 1u << k;
-  }
-  return m_a[k].pose;
-}
-
-bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
-  if (C.proof_count == 0) return false;
-  Motions m(C, m_relative);
-  reach = {HUGE_VAL, HUGE_VAL};
-  for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
-    const Gradient_proof& p = m_proofs[i].proof;
-    const int k = m_proofs[i].solve;
-    double r = 0.0;
-    if (!gradient_proof_holds(p, p.side == 0 ? m.b(k) : m.a(k), m.length(k), r)) return false;
-    reach[p.side] = std::min(reach[p.side], r);
-  }
-  return true;
-}
-
-double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
-  if (C.bound_count == 0) return -HUGE_VAL;
-  Motions m(C, m_relative);
-  double lowest = HUGE_VAL;
-  for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
-    const int k = m_bounds[i].solve;
-    lowest = std::min(lowest, bound_after_motion(m_bounds[i].proof, m.b(k), m.length(k)));
-    if (lowest < need) break;
-  }
-  return lowest;
-}
-
-bool Body_pair_tracker::plan_partial_solve(const Candidate& C, int element_a, int element_b,
-                                           double cutoff, double min_reach, int max_nodes,
-                                           double& lower, std::array<double, 2>& reach) {
-  if (C.solve_count == 0 || C.solve_count >= k_kept_solves || C.bound_count + C.proof_count == 0)
-    return false;
-  Motions m(C, m_relative);
-  m_restarts.clear();
-  m_keep_bound.assign(static_cast<std::size_t>(C.bound_count), 0);
-  m_keep_proof.assign(static_cast<std::size_t>(C.proof_count), 0);
-  lower = HUGE_VAL;
-  reach = {HUGE_VAL, HUGE_VAL};
-  for (int i = 0; i < C.bound_count; ++i) {
-    const Kept_bound& kb = m_bounds[C.bound_begin + i];
-    const Bound_proof& p = kb.proof;
-    if (p.a_element != element_a || p.b_element != element_b) return false;
-    const double now = bound_after_motion(p, m.b(kb.solve), m.length(kb.solve));
-    if (now >= cutoff) {
-      m_keep_bound[i] = 1;
-      lower = std::min(lower, now);
-    } else {
-      m_restarts.push_back({p.a_lo, p.a_hi, p.b_lo, p.b_hi});
-    }
-  }
-  for (int i = 0; i < C.proof_count; ++i) {
-    const Kept_proof& kp = m_proofs[C.proof_begin + i];
-    const Gradient_proof& p = kp.proof;
-    double r = 0.0;
-    const int k = kp.solve;
-    if (gradient_proof_holds(p, p.side == 0 ? m.b(k) : m.a(k), m.length(k), r) &&
-        r >= min_reach) {
-      m_keep_proof[i] = 1;
-      reach[p.side] = std::min(reach[p.side], r);
-    } else if (p.side == 0) {
-      m_restarts.push_back({p.own_lo, p.own_hi, p.other_lo, p.other_hi});
-    } else {
-      m_restarts.push_back({p.other_lo, p.other_hi, p.own_lo, p.own_hi});
-    }
-  }
-  // (Measured on compare (c) at 1 kHz, nodes of the restricted solves: at most twice the
-  // budget 293k, at most the budget 307k, at most half 374k; no limit 306k, and as1's scene
-  // (BodyScenes) then ran away: a fallback's tens of thousands of kept pairs restarted at once,
-  // over budget, falling back again.)
-  return m_restarts.size() <= 2 * static_cast<std::size_t>(max_nodes);
-}
-
-void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
-  const std::vector<Gradient_proof>& proofs = m_workspace.gradient_proofs();
-  const std::vector<Bound_proof>& bounds = m_workspace.bound_proofs();
-  // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
-  // below, which keeps the order within each range.
-  if (!partial) C.proof_count = C.bound_count = 0;
-  std::size_t live_proofs = proofs.size(), live_bounds = bounds.size();
-  for (const Candidate& c : m_candidates) {
-    live_proofs += static_cast<std::size_t>(c.proof_count);
-    live_bounds += static_cast<std::size_t>(c.bound_count);
-  }
-  // Ranges of re-solved or dropped candidates are stale: compact when they dominate, in place
-  // (ranges slid down in the order they were written), so the pools keep their capacity.
-  if (m_proofs.size() > 2 * live_proofs + 1024 || m_bounds.size() > 2 * live_bounds + 4096) {
-    m_order.clear();
-    for (int i = 0; i < static_cast<int>(m_candidates.size()); ++i) m_order.push_back(i);
-    auto compact = [&](auto& pool, int Candidate::*begin, int Candidate::*count) {
-      std::sort(m_order.begin(), m_order.end(),
-                [&](int x, int y) { return m_candidates[x].*begin < m_candidates[y].*begin; });
-      int next = 0;
-      for (const int i : m_order) {
-        Candidate& c = m_candidates[i];
-        if (next < c.*begin)  // (copying to the left may overlap)
-          std::copy(pool.begin() + c.*begin, pool.begin() + c.*begin + c.*count, pool.begin() + next);
-        c.*begin = next;
-        next += c.*count;
-      }
-      pool.resize(next);
-    };
-    compact(m_proofs, &Candidate::proof_begin, &Candidate::proof_count);
-    compact(m_bounds, &Candidate::bound_begin, &Candidate::bound_count);
-  }
-  // The solves the kept proofs still refer to, renumbered in order, then this one.
-  std::array<int, k_kept_solves> renumber;
-  renumber.fill(-1);
-  int solves = 0;
-  if (partial) {
-    std::array<bool, k_kept_solves> used{};
-    for (int i = 0; i < C.bound_count; ++i)
-      if (m_keep_bound[i]) used[m_bounds[C.bound_begin + i].solve] = true;
-    for (int i = 0; i < C.proof_count; ++i)
-      if (m_keep_proof[i]) used[m_proofs[C.proof_begin + i].solve] = true;
-    for (int k = 0; k < C.solve_count; ++k)
-      if (used[k]) {
-        renumber[k] = solves;
-        C.solves[solves++] = C.solves[k];
-      }
-  }
-  const int current = solves;
-  C.solves[solves++] = at;
-  C.solve_count = solves;
-  const int old_proofs = C.proof_begin, old_bounds = C.bound_begin;
-  C.proof_begin = static_cast<int>(m_proofs.size());
-  if (partial)
-    for (int i = 0; i < C.proof_count; ++i)
-      if (m_keep_proof[i]) {
-        Kept_proof p = m_proofs[old_proofs + i];  // (a copy: the pool may grow)
-        p.solve = renumber[p.solve];
-        m_proofs.push_back(p);
-      }
-  for (const Gradient_proof& p : proofs) m_proofs.push_back({p, current});
-  C.proof_count = static_cast<int>(m_proofs.size()) - C.proof_begin;
-  C.bound_begin = static_cast<int>(m_bounds.size());
-  if (partial)
-    for (int i = 0; i < C.bound_count; ++i)
-      if (m_keep_bound[i]) {
-        Kept_bound b = m_bounds[old_bounds + i];
-        b.solve = renumber[b.solve];
-        m_bounds.push_back(b);
-      }
-  for (const Bound_proof& b : bounds) m_bounds.push_back({b, current});
-  C.bound_count = static_cast<int>(m_bounds.size()) - C.bound_begin;
 }
 
 int Body_pair_tracker::find_candidate(std::uint64_t key) const {
@@ -1141,7 +622,7 @@ bool Body_pair_tracker::transition(int k) {
 }
 
 void Body_pair_tracker::merge_duplicates() {
-  const double tol = 1e-7 * std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+  const double tol = 1e-7 * std::max(box_diagonal(m_model_a->box()), box_diagonal(m_model_b->box()));
   for (std::size_t i = 0; i < m_live.size(); ++i) {
     if (!m_live[i].alive) continue;
     for (std::size_t j = i + 1; j < m_live.size(); ++j) {
@@ -1277,7 +758,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   //    not. In contact (a signed minimum) every candidate pair gets a tracker instead.
   // 4. Lost everything (all witnesses off the bodies): the certified solver re-seeds.
   if (std::isfinite(best)) {
-    const double length = std::max(diagonal(m_model_a->box()), diagonal(m_model_b->box()));
+    const double length = std::max(box_diagonal(m_model_a->box()), box_diagonal(m_model_b->box()));
     const double reach = std::abs(best) + reach_margin();
     if (!near_pose(m_relative, m_last_relative, length) &&
         reach + approach_bound(m_model_a->box(), m_model_b->box(), m_last_relative, m_relative)

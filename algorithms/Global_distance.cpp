@@ -151,8 +151,9 @@ double motion_rounding(const Vec3& c, double h, const Rigid_pose_3& motion, doub
 // on L within r + (|c - y0| + r) k + |D(y0)| of y0 along it, and along L, D is affine:
 // |D(y0 + s e)| <= |D(y0)| + |s| k. A turn about L itself moves nothing.
 double symmetry_shift(const Symmetry& s, const Rigid_pose_3& M, const Vec3& c, double r) {
-  const Vec3 y0 = s.kind == Symmetry::Kind::Axis ? Vec3(s.point + (c - s.point).dot(s.direction) * s.direction)
-                                                 : s.point;
+  const Vec3 y0 = s.kind == Symmetry::Kind::Axis
+                      ? Vec3(s.point + (c - s.point).dot(s.direction) * s.direction)
+                      : s.point;
   const double d0 = (M.apply_point(y0) - y0).norm();
   if (s.kind != Symmetry::Kind::Axis) return d0;
   const double k = (M.apply_vector(s.direction) - s.direction).norm();
@@ -1337,7 +1338,8 @@ Distance_result Solver::run() {
   m_scratch.bounds.clear();
   for (int side = 0; side < 2; ++side) {
     const Bbox_3& box = m_side[side].h->box();
-    m_size[side] = Vec3(box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()).norm();
+    m_size[side] =
+        Vec3(box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()).norm();
     const std::vector<Symmetry>& own = m_side[side].h->symmetries();
     m_scratch.placed[side].resize(own.size());
     m_scratch.along_motion[side].resize(own.size());

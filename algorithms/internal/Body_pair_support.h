@@ -1,0 +1,83 @@
+// What the body-pair tracker's two files share (Body_pair_tracker.cpp: tracks, broad phase,
+// steps; Body_pair_certification.cpp: the candidate pairs without a tracker). Not API.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "algorithms/Tracking_model.h"
+#include "kernel/Rigid_pose_3.h"
+#include "kernel/Types.h"
+
+namespace extremal::internal {
+
+inline double box_diagonal(const Bbox_3& b) {
+  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
+                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
+                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
+}
+
+// A candidate pair's key: primitive of A in the high half, of B in the low.
+inline std::uint64_t pair_key(int a, int b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+inline int key_a(std::uint64_t k) { return static_cast<int>(k >> 32); }
+inline int key_b(std::uint64_t k) { return static_cast<int>(k & 0xffffffffu); }
+
+// The relative motion from X0 to X1 (poses X_AB: B's frame in A's) for a primitive of A
+// (body-frame box box_a) and one of B (box_b): the largest displacement of a point of B's box
+// in A's frame (move_b) and of A's box in B's frame (move_a), and how much closer it can have
+// brought the two, the smaller of those. Over the ball (c, r) that holds a box,
+// |(R1 - R0) p + t1 - t0| <= |(R1 - R0) c + t1 - t0| + |R1 - R0|_F r. (Distances between
+// rigid placements depend on the relative pose only, and change by at most the largest
+// displacement of either side.)
+struct Approach {
+  double move_a = 0.0, move_b = 0.0, closer = 0.0;
+};
+inline Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_pose_3& X0,
+                        const Rigid_pose_3& X1) {
+  const Mat3 dR = X1.rotation() - X0.rotation();
+  const double spin = dR.norm();  // Frobenius, >= the spectral norm
+  const Vec3 ca(0.5 * (box_a.xmin() + box_a.xmax()), 0.5 * (box_a.ymin() + box_a.ymax()),
+                0.5 * (box_a.zmin() + box_a.zmax()));
+  const Vec3 cb(0.5 * (box_b.xmin() + box_b.xmax()), 0.5 * (box_b.ymin() + box_b.ymax()),
+                0.5 * (box_b.zmin() + box_b.zmax()));
+  const double ra = 0.5 * box_diagonal(box_a), rb = 0.5 * box_diagonal(box_b);
+  const Vec3& t0 = X0.translation();
+  const Vec3& t1 = X1.translation();
+  const double move_b = (dR * cb + (t1 - t0)).norm() + spin * rb;
+  // A in B's frame: X_BA = (R^T, -R^T t).
+  const Vec3 dt_inverse = X0.rotation().transpose() * t0 - X1.rotation().transpose() * t1;
+  const double move_a = (dR.transpose() * ca + dt_inverse).norm() + spin * ra;
+  // Rounding of these products: a few ulps of the lengths involved.
+  const double size = ca.norm() + ra + cb.norm() + rb + t0.norm() + t1.norm();
+  const double rounding = 16.0 * std::numeric_limits<double>::epsilon() * size;
+  Approach m;
+  m.move_a = move_a + rounding;
+  m.move_b = move_b + rounding;
+  m.closer = std::min(m.move_a, m.move_b);
+  return m;
+}
+
+// Mesh triangles against triangles or the point: closed forms, no tracker.
+inline bool closed_form_pair(const Primitive& a, const Primitive& b) {
+  const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
+  return (ta && (tb || b.kind == Primitive_kind::Point)) || (tb && a.kind == Primitive_kind::Point);
+}
+
+// A global result's parameters on a primitive (the global solver's triangles are degree 1 x 1
+// patches with corners p0, p2 | p1, p2: (u, v) there is (u (1 - v), v) here).
+inline void params_from_global(const Primitive& p, const std::array<double, 2>& q, double* out) {
+  if (p.kind == Primitive_kind::Triangle) {
+    out[0] = q[0] * (1.0 - q[1]);
+    out[1] = q[1];
+    return;
+  }
+  for (int k = 0; k < p.feature.dimension(); ++k) out[k] = q[k];
+}
+
+}  // namespace extremal::internal
