@@ -438,6 +438,7 @@ struct Side {
         c.child[0] = c.child[1] = -1;
         c.axis_stamp = -1;
         c.normal_state = 0;
+        c.range_state[0] = c.range_state[1] = 0;  // its own ranges are tighter than the parent's
         c.depth = parent.depth + 1;
         c.offset = off0 + half * count;
         if (half == 0)

@@ -194,12 +194,15 @@ bool radial_range(const Eigen::Vector4d* net, int nu, int nv, const Symmetry& s,
   const double spread = 2.0 * reach * e + e * e;
   double lo2 = HUGE_VAL, hi2 = -HUGE_VAL;
   for (int k = 0; k < size; ++k) {
+    // A product of weights below the normal range (weights far below 1e-150) or a sum that
+    // overflows leaves no accuracy to bound: none (a NaN would drop out of min and max).
+    if (!(W[k] >= std::numeric_limits<double>::min())) return false;
     const double ratio = N[k] / W[k];
     const double slack = gamma * (A[k] / W[k] + std::abs(ratio)) + spread;
+    if (!std::isfinite(ratio) || !std::isfinite(slack)) return false;
     lo2 = std::min(lo2, ratio - slack);
     hi2 = std::max(hi2, ratio + slack);
   }
-  if (!(lo2 <= hi2)) return false;  // non-finite (a weight not positive)
   lo = std::sqrt(std::max(0.0, lo2));
   hi = std::sqrt(std::max(0.0, hi2));
   return true;

@@ -133,5 +133,18 @@ TEST(Symmetry, RadialRangesAboveTheirDegreeLimitAreRefused) {
   EXPECT_EQ(lo, 0.0);
 }
 
+// Weights far below the normal range make the weight products underflow: the range must
+// still hold the net's points (here the first pole, 10 from the centre), or be refused.
+TEST(Symmetry, RadialRangesOfNetsWhoseWeightProductsUnderflowStaySound) {
+  const double w0 = 1e-170;
+  const std::vector<Eigen::Vector4d> net = {Eigen::Vector4d(10.0 * w0, 0, 0, w0),
+                                            Eigen::Vector4d(1, 0, 0, 1), Eigen::Vector4d(1, 1, 0, 1)};
+  Symmetry s;
+  s.kind = Symmetry::Kind::Centre;
+  double lo = 0.0, hi = 0.0;
+  const bool made = radial_range(net.data(), 3, 1, s, lo, hi);
+  EXPECT_TRUE(!made || hi >= 10.0) << "hi " << hi;
+}
+
 }  // namespace
 }  // namespace extremal
