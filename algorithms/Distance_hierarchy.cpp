@@ -66,15 +66,6 @@ Bbox_3 box_of(const Eigen::Vector4d* h, int n) {
   return b;
 }
 
-double squared_diagonal(const Bbox_3& b) {
-  return Vec3(b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()).squaredNorm();
-}
-
-double max_abs_coordinate(const Bbox_3& b) {
-  return std::max({std::abs(b.xmin()), std::abs(b.ymin()), std::abs(b.zmin()), std::abs(b.xmax()),
-                   std::abs(b.ymax()), std::abs(b.zmax())});
-}
-
 Vec3 box_centre(const Bbox_3& b) {
   return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()),
               0.5 * (b.zmin() + b.zmax()));
@@ -219,8 +210,7 @@ Distance_hierarchy::Distance_hierarchy(const Body& body) : m_name(body.name) {
   {
     Bbox_3 all;
     for (const Piece& p : m_pieces) all += p.box;
-    const double tol = 1e-9 * std::sqrt(squared_diagonal(all)) +
-                       1e3 * std::numeric_limits<double>::epsilon() * max_abs_coordinate(all);
+    const double tol = symmetry_tolerance(all);
     for (Element& e : m_elements) {
       Symmetry s;
       if (e.kind == Element_kind::Face && e.index < static_cast<int>(body.faces.size()))

@@ -151,9 +151,7 @@ double motion_rounding(const Vec3& c, double h, const Rigid_pose_3& motion, doub
 // on L within r + (|c - y0| + r) k + |D(y0)| of y0 along it, and along L, D is affine:
 // |D(y0 + s e)| <= |D(y0)| + |s| k. A turn about L itself moves nothing.
 double symmetry_shift(const Symmetry& s, const Rigid_pose_3& M, const Vec3& c, double r) {
-  const Vec3 y0 = s.kind == Symmetry::Kind::Axis
-                      ? Vec3(s.point + (c - s.point).dot(s.direction) * s.direction)
-                      : s.point;
+  const Vec3 y0 = c - s.offset(c);  // the centre, or c's foot on the axis
   const double d0 = (M.apply_point(y0) - y0).norm();
   if (s.kind != Symmetry::Kind::Axis) return d0;
   const double k = (M.apply_vector(s.direction) - s.direction).norm();
@@ -255,17 +253,11 @@ bool net_normal(const Live_node& n, const Vec3* cart, Vec3& axis) {
 // bore, nested spheres, a sphere at a torus' centre).
 constexpr double k_near_symmetry = 0.01;  // of the body's size
 bool near_symmetry(const Symmetry& r, const Symmetry& s, double offset) {
-  auto off_axis = [](const Symmetry& axis, const Vec3& x) {
-    const Vec3 d = x - axis.point;
-    return (d - d.dot(axis.direction) * axis.direction).norm();
-  };
-  if (r.kind == Symmetry::Kind::Centre)
-    return s.kind == Symmetry::Kind::Centre ? (s.point - r.point).norm() <= offset
-                                            : off_axis(s, r.point) <= offset;
-  if (s.kind == Symmetry::Kind::Centre) return off_axis(r, s.point) <= offset;
+  if (r.kind == Symmetry::Kind::Centre) return s.offset(r.point).norm() <= offset;
+  if (s.kind == Symmetry::Kind::Centre) return r.offset(s.point).norm() <= offset;
   // s's line where it passes nearest r's point.
   const Vec3 nearest = s.point + (r.point - s.point).dot(s.direction) * s.direction;
-  return r.direction.cross(s.direction).norm() <= 0.05 && off_axis(r, nearest) <= offset;
+  return r.direction.cross(s.direction).norm() <= 0.05 && r.offset(nearest).norm() <= offset;
 }
 
 // One side of the query: a hierarchy placed by a pose, with its live nodes.
@@ -701,11 +693,7 @@ double Solver::symmetry_bound(Live_node& a, Live_node& b, Bound_proof* keep) {
     // its range cannot either.
     const Live_node& n = *nodes[other];
     const Symmetry& placed = m_scratch.placed[owner][id];
-    auto radial = [&](const Vec3& x) {
-      Vec3 d = x - placed.point;
-      if (placed.kind == Symmetry::Kind::Axis) d -= d.dot(placed.direction) * placed.direction;
-      return d.squaredNorm();
-    };
+    auto radial = [&](const Vec3& x) { return placed.offset(x).squaredNorm(); };
     const double centre = std::sqrt(radial(n.centre));
     if (!(std::max(lo[owner] - (centre - n.radius), centre + n.radius - hi[owner]) > L)) continue;
     const Vec3* cart = m_side[other].cart(n);

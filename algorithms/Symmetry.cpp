@@ -7,6 +7,13 @@
 
 namespace extremal {
 
+double symmetry_tolerance(const Bbox_3& box) {
+  const Vec3 lo(box.xmin(), box.ymin(), box.zmin()), hi(box.xmax(), box.ymax(), box.zmax());
+  const double size = (hi - lo).norm();
+  const double coords = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  return 1e-9 * size + 1e3 * std::numeric_limits<double>::epsilon() * coords;
+}
+
 Symmetry Symmetry::placed(const Rigid_pose_3& X) const {
   Symmetry s = *this;
   s.point = X.apply_point(point);
@@ -44,12 +51,6 @@ bool circle_along(const Point_at& point_at, double t0, double t1, double tol, Ci
   return true;
 }
 
-double tolerance_for(const Bbox_3& box) {
-  const Vec3 lo(box.xmin(), box.ymin(), box.zmin()), hi(box.xmax(), box.ymax(), box.zmax());
-  const double size = (hi - lo).norm();
-  const double coords = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
-  return 1e-9 * size + 1e3 * std::numeric_limits<double>::epsilon() * coords;
-}
 
 // An axis through the foot of the origin, pointing to the side of its largest component: the
 // same line found on two elements (a cylinder's side and caps) then compares equal.
@@ -66,7 +67,7 @@ Symmetry canonical_axis(const Vec3& point, const Vec3& direction) {
 }  // namespace
 
 Symmetry find_symmetry(const Nurbs_surface_3& s) {
-  const double tol = tolerance_for(s.hull_bbox());
+  const double tol = symmetry_tolerance(s.hull_bbox());
   const double lo[2] = {s.u_min(), s.v_min()}, hi[2] = {s.u_max(), s.v_max()};
   // Iso-curves along `dir` at three values of the other parameter.
   for (int dir = 0; dir < 2; ++dir) {
@@ -116,7 +117,7 @@ Symmetry find_symmetry(const Nurbs_surface_3& s) {
 Symmetry find_symmetry(const Nurbs_curve_3& c) {
   Circle circle;
   auto point_at = [&](double t) { return to_vec3(c.point(t)); };
-  if (!circle_along(point_at, c.domain_min(), c.domain_max(), tolerance_for(c.hull_bbox()), circle))
+  if (!circle_along(point_at, c.domain_min(), c.domain_max(), symmetry_tolerance(c.hull_bbox()), circle))
     return {};
   return canonical_axis(circle.centre, circle.normal);
 }

@@ -30,6 +30,11 @@ struct Symmetry {
   Vec3 point = Vec3::Zero();      // the centre, or a point of the axis
   Vec3 direction = Vec3::Zero();  // the axis' unit direction
   bool any() const { return kind != Kind::None; }
+  // x less the centre, or less its foot on the axis: its norm is x's distance to the symmetry.
+  Vec3 offset(const Vec3& x) const {
+    const Vec3 d = x - point;
+    return kind == Kind::Axis ? Vec3(d - d.dot(direction) * direction) : d;
+  }
   // The same symmetry of the element placed by X.
   Symmetry placed(const Rigid_pose_3& X) const;
 };
@@ -40,6 +45,9 @@ struct Symmetry {
 // bounds are worth trying: radial_range is sound about any point or line.
 Symmetry find_symmetry(const Nurbs_surface_3& s);
 Symmetry find_symmetry(const Nurbs_curve_3& c);
+// How far apart two centres or axes found within `box` may be and still be one: 1e-9 of its
+// size, and the rounding of its coordinates.
+double symmetry_tolerance(const Bbox_3& box);
 
 // Bounds [lo, hi] on the distance to s's centre or axis of the points of the rational Bezier
 // piece with homogeneous poles `net` (nu x nv, row-major along u, positive weights), widened by

@@ -29,12 +29,7 @@ namespace {
 
 constexpr double k_pi = 3.14159265358979323846;
 
-Rigid_pose_3 random_pose(std::mt19937_64& rng, double spread) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-spread, spread);
-  const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  return Rigid_pose_3::from_quaternion(Vec3(u(rng), u(rng), u(rng)), q.w(), q.x(), q.y(), q.z());
-}
+using test::random_pose;
 
 Rigid_pose_3 translation(double x, double y, double z) {
   return Rigid_pose_3(Mat3::Identity(), Vec3(x, y, z));

@@ -15,18 +15,9 @@
 namespace extremal {
 namespace {
 
-Rigid_pose_3 random_pose(std::mt19937_64& rng, double spread) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-spread, spread);
-  const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  return Rigid_pose_3::from_quaternion(Vec3(u(rng), u(rng), u(rng)), q.w(), q.x(), q.y(), q.z());
-}
+using test::random_pose;
 
-double distance_to(const Symmetry& s, const Vec3& x) {
-  Vec3 d = x - s.point;
-  if (s.kind == Symmetry::Kind::Axis) d -= d.dot(s.direction) * s.direction;
-  return d.norm();
-}
+double distance_to(const Symmetry& s, const Vec3& x) { return s.offset(x).norm(); }
 
 // The line (point, direction) is s's axis: both its points lie on s's line.
 void expect_axis(const Symmetry& s, const Vec3& point, const Vec3& direction, double tol) {
