@@ -19,6 +19,7 @@ using internal::Approach;
 using internal::closed_form_pair;
 using internal::key_a;
 using internal::key_b;
+using internal::k_converged_error;
 using internal::pair_key;
 using internal::params_from_global;
 
@@ -50,7 +51,6 @@ constexpr int k_crease_nodes = 200;
 // A tracked pair carries a crease only when its tracker's normalised errors (sines of the
 // angles off stationarity) along its free parameters are below this: the distance it is above
 // its minimum is then about d e^2 / 2, far below the seeding tolerance.
-constexpr double k_converged_error = 1e-6;
 
 // The line B turns about relative to A (world, kind Axis; none when they do not turn
 // relatively): the screw axis of the relative twist, through w x v(0) / |w|^2 along w.
@@ -69,25 +69,28 @@ Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& 
 
 }  // namespace
 
-bool Body_pair_tracker::tracks_converged(int pa, int pb) const {
-  for (const Live& L : m_live) {
-    if (!L.alive || !L.valid || L.closed_form || L.pa != pa || L.pb != pb) continue;
-    // Converged along every parameter not held on a domain bound (one held there keeps the
-    // crease's projection error): a tracker lagging behind its minimum (no corrections, a low
-    // gain) may sit above a point of its own pair, the crease among them.
-    const Feature& fa = m_model_a->primitives()[pa].feature;
-    const Feature& fb = m_model_b->primitives()[pb].feature;
-    const int na = fa.dimension();
-    bool converged = true;
-    for (int k = 0; k < na + fb.dimension() && converged; ++k) {
-      const Feature& f = k < na ? fa : fb;
-      const int j = k < na ? k : k - na;
-      const double q = L.result.params[k];
-      if (!f.is_closed(j) && (q <= f.lower(j) || q >= f.upper(j))) continue;
-      converged = std::abs(L.result.normalised_errors[k]) <= k_converged_error;
-    }
-    if (converged) return true;
+bool Body_pair_tracker::is_converged(const Live& L, double limit) const {
+  // Converged along every parameter not held on a domain bound (one held there keeps the
+  // crease's projection error): a tracker lagging behind its minimum (no corrections, a low
+  // gain) may sit above a point of its own pair, the crease among them.
+  const Feature& fa = m_model_a->primitives()[L.pa].feature;
+  const Feature& fb = m_model_b->primitives()[L.pb].feature;
+  const int na = fa.dimension();
+  for (int k = 0; k < na + fb.dimension(); ++k) {
+    const Feature& f = k < na ? fa : fb;
+    const int j = k < na ? k : k - na;
+    const double q = L.result.params[k];
+    if (!f.is_closed(j) && (q <= f.lower(j) || q >= f.upper(j))) continue;
+    if (!(std::abs(L.result.normalised_errors[k]) <= limit)) return false;
   }
+  return true;
+}
+
+bool Body_pair_tracker::tracks_converged(int pa, int pb) const {
+  for (const Live& L : m_live)
+    if (L.alive && L.valid && !L.closed_form && L.pa == pa && L.pb == pb &&
+        is_converged(L, k_converged_error))
+      return true;
   return false;
 }
 

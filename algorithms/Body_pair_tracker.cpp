@@ -41,6 +41,7 @@ using internal::key_a;
 using internal::key_b;
 using internal::pair_key;
 using internal::params_from_global;
+using internal::k_wandering_error;
 
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
                                                       CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
@@ -240,6 +241,70 @@ void Body_pair_tracker::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
     params = inner;
 }
 
+void Body_pair_tracker::centre_depth_seed(int pa, int pb, const Rigid_pose_3& X_WA,
+                                          const Rigid_pose_3& X_WB, const Vec3& n, double depth,
+                                          Vec4& params) const {
+  // The hull's witnesses of a continuum of equal penetration pairs (a shaft in a bore, flat on
+  // flat) may sit on the faces' rims, where a tracker's first step leaves the continuum. Points
+  // of one face whose outward normal is the depth's direction, moved by the depth, that lie on
+  // the other face (with the opposite normal) are pairs of the same depth: the most central is
+  // kept. Loose tolerances: a depth whose budget ran out is a little off, and this is a seed.
+  const Tracking_model& MA = *m_model_a;
+  const Tracking_model& MB = *m_model_b;
+  const Feature& A = MA.primitives()[pa].feature;
+  const Feature& B = MB.primitives()[pb].feature;
+  if (A.dimension() != 2 || B.dimension() != 2) return;
+  const double tol = 1e-4 * std::max({1.0, std::abs(depth), box_diagonal(MA.primitives()[pa].box),
+                                      box_diagonal(MB.primitives()[pb].box)});
+  constexpr double k_aligned = 1.0 - 1e-6;
+  const Rigid_pose_3 identity;
+  double best = off_centre(A, params.data()) + off_centre(B, params.data() + 2);
+  Vec4 chosen = params;
+  constexpr int n_samples = 8;
+  for (int side = 0; side < 2; ++side) {
+    const Feature& F = side == 0 ? A : B;
+    const Feature& G = side == 0 ? B : A;
+    const Rigid_pose_3& XF = side == 0 ? X_WA : X_WB;
+    const Rigid_pose_3& XG = side == 0 ? X_WB : X_WA;
+    const Vec3 dir = side == 0 ? n : Vec3(-n);  // F's outward normal at its support points
+    const Vec3 shift = side == 0 ? Vec3(depth * n) : Vec3(-depth * n);
+    const double* f0 = params.data() + (side == 0 ? 0 : 2);
+    const double* g0 = params.data() + (side == 0 ? 2 : 0);
+    auto try_point = [&](const double* q) {
+      Feature_point fp;
+      evaluate_feature(F, XF, q, fp, 1);
+      if (!(F.outward_sign() * unit_normal(fp.d[0].cross(fp.d[1])).dot(dir) >= k_aligned)) return;
+      const Vec3 x = fp.p + shift;
+      const Feature target = Feature::point(x);
+      const Newton_result r = solve_pair_at_rest({&G, &XG, nullptr}, {&target, &identity, nullptr},
+                                                 Vec4(g0[0], g0[1], 0.0, 0.0));
+      Feature_point gp;
+      evaluate_feature(G, XG, r.params.data(), gp, 1);
+      if (!((gp.p - x).norm() <= tol) ||
+          !(-G.outward_sign() * unit_normal(gp.d[0].cross(gp.d[1])).dot(dir) >= k_aligned))
+        return;
+      Vec4 cand;
+      if (side == 0) cand << q[0], q[1], r.params[0], r.params[1];
+      else cand << r.params[0], r.params[1], q[0], q[1];
+      if (!MA.contains(pa, cand.data()) || !MB.contains(pb, cand.data() + 2)) return;
+      const double c = off_centre(A, cand.data()) + off_centre(B, cand.data() + 2);
+      if (c < best) best = c, chosen = cand;
+    };
+    // A grid, and the parameter lines through the witness (a generator of a cylinder).
+    for (int i = 0; i < n_samples; ++i) {
+      const double u = F.lower(0) + (F.upper(0) - F.lower(0)) * (i + 0.5) / n_samples;
+      for (int j = 0; j < n_samples; ++j) {
+        const double v = F.lower(1) + (F.upper(1) - F.lower(1)) * (j + 0.5) / n_samples;
+        const double grid[2] = {u, v}, along_v[2] = {f0[0], v}, along_u[2] = {u, f0[1]};
+        try_point(grid);
+        if (i == 0) try_point(along_v);
+        if (j == 0) try_point(along_u);
+      }
+    }
+  }
+  params = chosen;
+}
+
 void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
                                   const Rigid_pose_3& X_WB) {
   const Primitive& A = m_model_a->primitives()[pa];
@@ -430,6 +495,61 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   // The certified pair, should the broad phase have missed it (duplicates merge after the
   // first step).
   seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
+  if (seed_overlap(g, X_WA, X_WB))  // inside, the broad phase reaches across the depth
+    broad_phase(X_WA, X_WB, -m_solved.distance + reach_margin());
+}
+
+void Body_pair_tracker::keep_solved(double distance, const Vec3& point_a, const Vec3& point_b,
+                                    const Vec3& normal, Element_kind kind_a, int element_a,
+                                    const std::array<double, 2>& params_a, Element_kind kind_b,
+                                    int element_b, const std::array<double, 2>& params_b) {
+  Solved& s = m_solved;
+  s.step = m_steps;
+  s.distance = distance;
+  s.point_a = point_a;
+  s.point_b = point_b;
+  s.normal = normal;
+  s.pa = element_a >= 0 ? m_model_a->primitive_of(kind_a, element_a) : -1;
+  s.pb = element_b >= 0 ? m_model_b->primitive_of(kind_b, element_b) : -1;
+  s.params.setZero();
+  if (s.pa >= 0 && s.pb >= 0) {
+    const Primitive& A = m_model_a->primitives()[s.pa];
+    params_from_global(A, params_a, s.params.data());
+    params_from_global(m_model_b->primitives()[s.pb], params_b,
+                       s.params.data() + A.feature.dimension());
+  }
+}
+
+bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA,
+                                     const Rigid_pose_3& X_WB) {
+  keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
+              g.kind_b, g.element_b, g.params_b);
+  if (m_closed_a < 0) m_closed_a = body_closedness(m_model_a->body()).closed ? 1 : 0;
+  if (m_closed_b < 0) m_closed_b = body_closedness(m_model_b->body()).closed ? 1 : 0;
+  const Distance_hierarchy& HA = m_model_a->hierarchy();
+  const Distance_hierarchy& HB = m_model_b->hierarchy();
+  const Overlap_test overlap = overlap_of(g, HA, X_WA, m_closed_a == 1, HB, X_WB, m_closed_b == 1);
+  // Where the surfaces meet, the hulls' depth is the bodies' only when both are convex (a nut
+  // on a bolt overlaps their hulls by the bolt's length); otherwise the trackers seeded at the
+  // common points find the local pair. One body inside the other has no common point to
+  // start from: the hulls' depth it is (as `extremal distance --signed` reports it).
+  if (overlap.kind == Overlap_kind::None) return false;
+  if (overlap.kind == Overlap_kind::Surfaces_meet) {
+    if (m_convex < 0)
+      m_convex = is_certified_convex(m_model_a->body()) && is_certified_convex(m_model_b->body());
+    if (m_convex == 0) return false;
+  }
+  const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, m_options.overlap);
+  if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
+  keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
+              h.kind_b, h.element_b, h.params_b);
+  if (m_solved.pa < 0 || m_solved.pb < 0) return false;
+  Vec4 params = m_solved.params;
+  centre_depth_seed(m_solved.pa, m_solved.pb, X_WA, X_WB, h.normal, h.distance, params);
+  const int k = add_live(m_solved.pa, m_solved.pb, params);
+  m_live[k].through_contact = true;  // the depth's side of contact
+  ++m_report.seeds;
+  return true;
 }
 
 void Body_pair_tracker::step_live(int k) {
@@ -485,6 +605,12 @@ void Body_pair_tracker::step_live(int k) {
   if (L.result.normal_form) L.through_contact = true;
   else if (L.result.distance > 0.0) L.through_contact = false;
   if (L.result.distance < -m_options.contact_tolerance && !L.through_contact) L.valid = false;
+  // Deep inside (past the normal form's band), Newton's basin about a penetration pair can be
+  // small: a tracker seeded at a common point of a deep overlap, or carried there, whose
+  // conditions are far from holding wanders and reports nothing.
+  if (L.result.distance < -m_options.contact_tolerance && !L.result.normal_form &&
+      !is_converged(L, k_wandering_error))
+    L.valid = false;
 }
 
 bool Body_pair_tracker::transition(int k) {
@@ -632,6 +758,11 @@ void Body_pair_tracker::merge_duplicates() {
       if ((x.result.point_a - y.result.point_a).norm() + (x.result.point_b - y.result.point_b).norm() >
           tol)
         continue;
+      if (!x.valid && y.valid) {  // keep the one that holds (a wandering seed does not)
+        kill(static_cast<int>(i));
+        ++m_report.merges;
+        break;
+      }
       kill(static_cast<int>(j));
       ++m_report.merges;
     }
@@ -685,7 +816,33 @@ void Body_pair_tracker::fill_report() {
   }
   r.trackers = trackers;
   r.candidates = static_cast<int>(m_candidates.size());
-  if (best < 0) return;
+  const double tol = m_options.contact_tolerance;
+  r.solved = best < 0;
+  if (best < 0) {
+    // No tracker holds: the solver's answer of this step (there is one: a step whose trackers
+    // hold nothing solves again).
+    const Solved& s = m_solved;
+    r.distance = s.distance;
+    r.point_a = s.point_a;
+    r.point_b = s.point_b;
+    r.normal = s.normal;
+    r.degeneracy = Degeneracy::None;
+    r.feature_a = r.feature_b = r.edge_a = r.edge_b = -1;
+    r.params.setZero();
+    if (s.pa >= 0 && s.pb >= 0) {
+      const int na = m_model_a->primitives()[s.pa].feature.dimension();
+      double qa[2] = {0, 0}, qb[2] = {0, 0};
+      int da = 0, db = 0;
+      r.feature_a = report_feature(*m_model_a, s.pa, s.params.data(), qa, r.edge_a, da);
+      r.feature_b = report_feature(*m_model_b, s.pb, s.params.data() + na, qb, r.edge_b, db);
+      for (int c = 0; c < da; ++c) r.params[c] = qa[c];
+      for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
+    }
+    r.status = s.distance < -tol ? Pair_status::Penetrating
+               : s.distance <= tol ? Pair_status::Contact
+                                   : Pair_status::Tracking;
+    return;
+  }
   const Live& L = m_live[best];
   const Track_result& tr = L.result;
   r.distance = tr.distance;
@@ -701,7 +858,6 @@ void Body_pair_tracker::fill_report() {
   r.params.setZero();
   for (int c = 0; c < da; ++c) r.params[c] = qa[c];
   for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
-  const double tol = m_options.contact_tolerance;
   r.status = tr.distance < -tol                             ? Pair_status::Penetrating
              : tr.distance <= tol                           ? Pair_status::Contact
              : tr.status == Track_status::Singular_fallback ? Pair_status::Fallback
@@ -771,7 +927,11 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     else if (seed_in_contact(X_WA, X_WB))
       step_all();
   } else {
-    if (seed_from_global(X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
+    // Nothing on the bodies (witnesses left them, or trackers wandering in a deep overlap): the
+    // certified solver seeds again, and its answer is reported while no tracker holds.
+    const Distance_result g = global_solve(X_WA, X_WB);
+    if (seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
+    if (seed_overlap(g, X_WA, X_WB)) ++r.reseeds;
     step_all();
   }
   merge_duplicates();

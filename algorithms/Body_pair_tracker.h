@@ -30,6 +30,7 @@
 
 #include "algorithms/Extremal_tracker.h"
 #include "algorithms/Global_distance.h"
+#include "algorithms/Penetration_depth.h"
 #include "algorithms/Tracking_model.h"
 #include "kernel/Body.h"
 
@@ -56,6 +57,10 @@ struct Pair_report {
   int edge_a = -1, edge_b = -1;  // B-rep edge (Body::edges) the witness lies on, else -1
   Pair_status status = Pair_status::Tracking;
   Degeneracy degeneracy = Degeneracy::None;
+  // No tracker held a pair on the bodies at this step (all seeded this step, or wandering in a
+  // deep overlap): the answer is the certified solver's of this step (0 at a common point
+  // where the surfaces meet, the hulls' depth where a body lies inside the other).
+  bool solved = false;
   int trackers = 0;  // live feature-pair trackers
   int audits = 0, reseeds = 0;  // global audits so far and the trackers they seeded
   // Totals since the start: patch transitions (a tracker handed across an edge or side),
@@ -123,6 +128,17 @@ struct Body_pair_options {
   // centres and axes of symmetry: with them the start at a ball's pole above a cylinder's cap
   // centre (bench/stress_suite c0_cylinder) lands the tracker's first step 1.1e-6 off, a pole
   // start-up transient not yet mended.
+  // Bodies that overlap when a tracker starts or re-seeds (surfaces meet, or one inside the
+  // other): the penetration pair of their convex hulls (hull_signed_distance) seeds a tracker
+  // that reports the depth. The cells bound the cost where the depth has a continuum of
+  // directions (coaxial bodies); the tracker's corrections converge the seed.
+  Signed_distance_request overlap = [] {
+    Signed_distance_request r;
+    r.absolute_tolerance = 1e-9;
+    r.relative_tolerance = 1e-9;
+    r.max_cells = 4000;
+    return r;
+  }();
   Distance_request global = [] {
     Distance_request r;
     r.absolute_tolerance = 1e-7;
@@ -176,6 +192,19 @@ class Body_pair_tracker {
                  double tracked);
   // seed_from on a new global solve.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
+  // When one body lies inside the other (g apart), or both are convex and g says their
+  // surfaces meet: a tracker, through contact, on the penetration pair of their hulls. Keeps
+  // the answer of g (or of the depth) for a report that no tracker holds (m_solved). True if
+  // it seeded.
+  bool seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // Moves a penetration seed on pair (pa, pb) (unit `n` from A to B, `depth` < 0) to the most
+  // central pair of the same depth when it lies on a continuum of them.
+  void centre_depth_seed(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                         const Vec3& n, double depth, Vec4& params) const;
+  // m_solved from a solver's witness pair.
+  void keep_solved(double distance, const Vec3& point_a, const Vec3& point_b, const Vec3& normal,
+                   Element_kind kind_a, int element_a, const std::array<double, 2>& params_a,
+                   Element_kind kind_b, int element_b, const std::array<double, 2>& params_b);
   void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
   // Whether check_vacated can certify primitive pair (pa, pb) without a tracker: both have
   // global elements and the pair is not a closed form (those always get a tracker).
@@ -253,8 +282,10 @@ class Body_pair_tracker {
   std::vector<Candidate> m_candidates, m_next_candidates;
   // Index of `key` in m_candidates, or -1.
   int find_candidate(std::uint64_t key) const;
-  // A live slot on (pa, pb) whose witnesses lie on the bodies, converged (see
-  // k_converged_error in the .cpp).
+  // Whether slot L's normalised projection errors are within `limit` along every parameter
+  // not held on a domain bound.
+  bool is_converged(const Live& L, double limit) const;
+  // A live slot on (pa, pb) whose witnesses lie on the bodies, converged.
   bool tracks_converged(int pa, int pb) const;
   // Sides of primitive p of body `side` (0 A, 1 B) shared (within tol / 4) with a neighbour
   // whose pair with `other` is tracked: the crease sides a restricted solve may declare carried.
@@ -339,6 +370,17 @@ class Body_pair_tracker {
   const Twist_3* m_VB = nullptr;
   long m_steps = 0;
   Pair_report m_report;
+  // The last answer of the solver (start or re-seed), reported at its step when no tracker
+  // holds: the step it was made at, and the report's fields.
+  struct Solved {
+    long step = -1;
+    double distance = 0.0;
+    Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
+    int pa = -1, pb = -1;
+    Vec4 params = Vec4::Zero();
+  } m_solved;
+  // body_closedness of each, and whether both are certified convex, made on first use.
+  signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;
 };
 
 // The features of a body: its faces, then its curves; a point body is its origin.

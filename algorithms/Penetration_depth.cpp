@@ -909,6 +909,30 @@ Signed_distance_status from_distance_status(Distance_status s) {
 
 }  // namespace
 
+Overlap_test overlap_of(const Distance_result& apart, const Distance_hierarchy& HA,
+                        const Rigid_pose_3& X_WA, bool closed_a, const Distance_hierarchy& HB,
+                        const Rigid_pose_3& X_WB, bool closed_b) {
+  Overlap_test out;
+  if (apart.status == Distance_status::Intersecting || apart.status == Distance_status::Touching) {
+    out.kind = Overlap_kind::Surfaces_meet;
+    return out;
+  }
+  if (!(apart.lower_bound > 0.0)) return out;
+  auto inside = [&](const Distance_hierarchy& inner, const Rigid_pose_3& X_in,
+                    const Distance_hierarchy& outer, const Rigid_pose_3& X_out) {
+    for (const Vec3& x : sample_points(inner, X_in)) {
+      const Winding_number w = winding_number(outer, X_out, x, apart.lower_bound);
+      out.winding_cells += w.cells;
+      if (!w.determined) out.unknown = true;
+      if (w.inside()) return true;
+    }
+    return false;
+  };
+  if (closed_b && inside(HA, X_WA, HB, X_WB)) out.kind = Overlap_kind::A_inside_B;
+  else if (closed_a && inside(HB, X_WB, HA, X_WA)) out.kind = Overlap_kind::B_inside_A;
+  return out;
+}
+
 double signed_box_bound(const Bbox_3& a, const Bbox_3& b) {
   const double apart = box_distance(a, b);
   if (apart > 0.0) return apart;
@@ -932,26 +956,10 @@ Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& 
   dreq.max_seconds = budget.limit_for(request.apart.max_seconds);
   const Distance_result r = extremal_distance(HA, X_WA, HB, X_WB, dreq);
   const Closedness closed_a = body_closedness(A), closed_b = body_closedness(B);
-
-  Overlap_kind overlap = Overlap_kind::None;
-  bool unknown = false;
-  long winding_cells = 0;
-  if (r.status == Distance_status::Intersecting || r.status == Distance_status::Touching) {
-    overlap = Overlap_kind::Surfaces_meet;
-  } else if (r.lower_bound > 0.0) {
-    auto inside = [&](const Distance_hierarchy& inner, const Rigid_pose_3& X_in,
-                      const Distance_hierarchy& outer, const Rigid_pose_3& X_out) {
-      for (const Vec3& x : sample_points(inner, X_in)) {
-        const Winding_number w = winding_number(outer, X_out, x, r.lower_bound);
-        winding_cells += w.cells;
-        if (!w.determined) unknown = true;
-        if (w.inside()) return true;
-      }
-      return false;
-    };
-    if (closed_b.closed && inside(HA, X_WA, HB, X_WB)) overlap = Overlap_kind::A_inside_B;
-    else if (closed_a.closed && inside(HB, X_WB, HA, X_WA)) overlap = Overlap_kind::B_inside_A;
-  }
+  const Overlap_test test = overlap_of(r, HA, X_WA, closed_a.closed, HB, X_WB, closed_b.closed);
+  const Overlap_kind overlap = test.kind;
+  const bool unknown = test.unknown;
+  const long winding_cells = test.winding_cells;
 
   Signed_distance_result out;
   if (overlap == Overlap_kind::None) {

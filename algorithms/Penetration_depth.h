@@ -179,6 +179,20 @@ struct Signed_distance_result {
                                                           const Rigid_pose_3& X_WB,
                                                           const Signed_distance_request& request = {});
 
+// Whether two bodies overlap, given the certified apart query `apart` between them: their
+// surfaces meet, or (surfaces apart) a sample point of one lies inside the other, closed, body
+// by its winding number (see "Containment" above). `unknown`: some winding number was not
+// decided (kind stays None for it).
+struct Overlap_test {
+  Overlap_kind kind = Overlap_kind::None;
+  bool unknown = false;
+  long winding_cells = 0;
+};
+[[nodiscard]] Overlap_test overlap_of(const Distance_result& apart, const Distance_hierarchy& HA,
+                                      const Rigid_pose_3& X_WA, bool closed_a,
+                                      const Distance_hierarchy& HB, const Rigid_pose_3& X_WB,
+                                      bool closed_b);
+
 // A lower bound on the signed distance of two bodies inside these world boxes: their distance
 // when apart, else minus the smallest overlap along a coordinate axis (overlap(n) of the hulls
 // is at most that of the boxes along it, so the depth is at most it).

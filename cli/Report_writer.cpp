@@ -7,6 +7,9 @@ namespace extremal::cli {
 
 namespace {
 
+// The detail column: why the tracker fell back, or that the certified solver answered.
+const char* detail(const Pair_report& r) { return r.solved ? "solved" : to_string(r.degeneracy); }
+
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json intervals_json(const std::vector<io::Time_interval>& runs) {
@@ -28,7 +31,7 @@ class Csv_writer final : public Report_writer {
     for (const Vec3* v : {&r.point_a, &r.point_b, &r.normal})
       for (int c = 0; c < 3; ++c) m_out << ',' << format_number((*v)[c]);
     m_out << ',' << r.feature_a << ',' << r.feature_b << ',' << to_string(r.status) << ','
-          << to_string(r.degeneracy);
+          << detail(r);
     for (int c = 0; c < 4; ++c) m_out << ',' << format_number(r.params[c]);
     if (!m_scene.empty()) m_out << ',' << m_scene;
     m_out << '\n';
@@ -78,7 +81,7 @@ class Json_writer final : public Report_writer {
                               {"face_a", r.feature_a},
                               {"face_b", r.feature_b},
                               {"status", to_string(r.status)},
-                              {"detail", to_string(r.degeneracy)},
+                              {"detail", detail(r)},
                               {"params", {r.params[0], r.params[1], r.params[2], r.params[3]}}};
     m_out << (m_first ? "\n" : ",\n") << j.dump();
     m_first = false;

@@ -217,16 +217,75 @@ TEST(Contact, SurfaceAgainstItsOwnCopy) {
   EXPECT_LE(s.max_error, 1e-9);
   EXPECT_EQ(s.nan_count, 0);
 
-  // A sphere against its own copy at rest: coincident, distance 0, said so, no NaN.
+  // A ball against its own copy at rest: the solids coincide, so the depth is the diameter
+  // (the shortest translation that separates them, as `extremal distance --signed` says),
+  // tracked on an antipodal pair of the continuum; no NaN.
   const Body sa = make_sphere_body(1.0), sb = make_sphere_body(1.0);
   Body_pair_tracker same(sa, sb);
   for (int i = 0; i < 10; ++i) {
     const Pair_report& r = same.step(i * 1e-3, Rigid_pose_3(), Twist_3{}, Rigid_pose_3(), Twist_3{}, 1e-3);
     ASSERT_TRUE(std::isfinite(r.distance) && r.normal.allFinite());
-    EXPECT_NEAR(r.distance, 0.0, 1e-12);
-    EXPECT_EQ(r.status, Pair_status::Contact);
-    EXPECT_EQ(r.degeneracy, Degeneracy::Coincident);
+    EXPECT_NEAR(r.distance, -2.0, 1e-9);
+    EXPECT_NEAR((r.point_b - r.point_a).norm(), 2.0, 1e-9);
+    EXPECT_EQ(r.status, Pair_status::Penetrating);
+    EXPECT_FALSE(r.solved);
   }
+}
+
+// Bodies that overlap when the tracker starts (an assembly with interference, a part placed
+// inside another) report their depth from the first step, not a common point of the
+// surfaces or nothing at all: the first step seeds the penetration pair of their hulls
+// (../shared/DESIGN.md: negative inside), which is then tracked like one reached through
+// contact. Before, the first rows were 0 with no witness, deep overlaps wandered between
+// -0.75 and +0.47 for two unit balls 0.5 deep, and one ball inside another reported 0 at
+// every step (solving the pair again each time).
+TEST(Contact, BodiesThatStartOverlappingReportTheirDepthFromTheFirstStep) {
+  const Body a = make_sphere_body(1.0), b = make_sphere_body(1.0);
+  // Two unit balls from 0.5 deep to 0.5 apart, turning: |c| - 2 at every step.
+  auto centre = [](double t) { return Vec3(1.5 + t, 0.2 * t, 0.0); };
+  auto apart = [&](double t) {
+    return Motion_sample{Rigid_pose_3(Mat3::Identity(), centre(t)),
+                         twist(Vec3(1.0, 0.2, 0.0), Vec3(0.0, 0.0, 2.0))};
+  };
+  const Case_stats s = run_case("balls start 0.5 deep, leave", a, b, apart,
+                                [&](double t) { return centre(t).norm() - 2.0; }, 1.0);
+  EXPECT_LE(s.max_error, 1e-9);
+  EXPECT_EQ(s.nan_count, 0);
+  EXPECT_GT(s.penetrating_steps, 400);
+
+  // A unit ball inside a ball of radius 3, leaving through its surface: the depth is the
+  // shortest way out, 4 - |c|, while inside, while the surfaces cross and after.
+  const Body big = make_sphere_body(3.0);
+  auto out = [](double t) {
+    return Motion_sample{Rigid_pose_3(Mat3::Identity(), Vec3(0.5 + t, 0.0, 0.1 * t)),
+                         twist(Vec3(1.0, 0.0, 0.1), Vec3(0.0, 1.0, 0.0))};
+  };
+  const Case_stats n = run_case("ball inside a ball, leaving", big, b, out, [](double t) {
+    return Vec3(0.5 + t, 0.0, 0.1 * t).norm() - 4.0;
+  }, 4.0);
+  EXPECT_LE(n.max_error, 1e-9);
+  EXPECT_EQ(n.nan_count, 0);
+
+  // A shaft in a bore (both solid: the shaft lies inside), turning and sliding on the axis:
+  // the depth is the radial way out, 3, on a continuum of equal pairs. Solved once.
+  const Body bore = make_cylinder_body(2.0, 8.0), shaft = make_cylinder_body(1.0, 4.0);
+  Body_pair_tracker tracker(bore, shaft);
+  const Rigid_pose_3 X_bore(Mat3::Identity(), Vec3(0.0, 0.0, -2.0));
+  const Twist_3 V(twist(Vec3(0.0, 0.0, 0.5), Vec3(0.0, 0.0, 3.0)));
+  double worst = 0.0;
+  for (int i = 0; i <= 200; ++i) {
+    const double t = i * 1e-3;
+    const Rigid_pose_3 X_shaft(Eigen::AngleAxisd(3.0 * t, Vec3::UnitZ()).toRotationMatrix(),
+                               Vec3(0.0, 0.0, 0.5 * t));
+    const Pair_report& r = tracker.step(t, X_bore, Twist_3{}, X_shaft, V, 1e-3);
+    ASSERT_TRUE(std::isfinite(r.distance) && r.point_a.allFinite() && r.point_b.allFinite());
+    worst = std::max(worst, std::abs(r.distance + 3.0));
+    EXPECT_EQ(r.status, Pair_status::Penetrating) << "t = " << t;
+    if (i == 200) {
+      EXPECT_LE(r.audits, 1);
+    }
+  }
+  EXPECT_LE(worst, 1e-9);
 }
 
 }  // namespace

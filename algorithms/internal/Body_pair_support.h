@@ -20,6 +20,13 @@ inline double box_diagonal(const Bbox_3& b) {
                    (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
 }
 
+// A tracker's normalised projection errors (Track_result) within this: converged on its pair
+// (a crease tie, a settled seed).
+constexpr double k_converged_error = 1e-6;
+// Beyond this, inside the bodies: not tracking a penetration pair at all (a Newton flow
+// wandering outside the basin of one), where a lagging tracker stays orders of magnitude below.
+constexpr double k_wandering_error = 1e-2;
+
 // A candidate pair's key: primitive of A in the high half, of B in the low.
 inline std::uint64_t pair_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
