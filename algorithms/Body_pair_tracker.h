@@ -193,14 +193,30 @@ class Body_pair_tracker {
   // seed_from on a new global solve.
   bool seed_from_global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double tracked);
   // When one body lies inside the other (g apart), or both are convex and g says their
-  // surfaces meet: a tracker, through contact, on the penetration pair of their hulls. Keeps
+  // surfaces meet: a tracker, through contact, on the penetration pair of their hulls (of a
+  // point inside a body: g's pair, its distance from the surface). Keeps
   // the answer of g (or of the depth) for a report that no tracker holds (m_solved). True if
-  // it seeded.
-  bool seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // it seeded. Non-convex bodies whose surfaces meet: only once the trackers seeded at the common points
+  // found no penetration pair (`local_seeds_failed`), and only when each of the hulls'
+  // witnesses lies inside the other body.
+  // Only when the depth is above `deeper` by more than its tolerance (a tracked pair as deep
+  // holds it already).
+  bool seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                    bool local_seeds_failed, double deeper = -HUGE_VAL);
   // Moves a penetration seed on pair (pa, pb) (unit `n` from A to B, `depth` < 0) to the most
-  // central pair of the same depth when it lies on a continuum of them.
-  void centre_depth_seed(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+  // central pair of the same depth when it lies on a continuum of them, on its faces or on
+  // faces beside its witnesses.
+  void centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                          const Vec3& n, double depth, Vec4& params) const;
+  // Deep inside (the tracked minimum `best` < 0 past the normal form's band): the certified
+  // solver says whether the bodies still overlap. Apart, the penetrating trackers go and the
+  // certified pair is tracked; inside, where the hulls' depth is the bodies' (convex, or one
+  // inside the other), its pair replaces the trackers deeper than it. True if it changed them.
+  bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
+  // Whether body A (side 0) or B is closed (body_closedness, made on first use).
+  bool closed(int side);
+  // A tracker on a penetration pair found by a solver (counted as a seed).
+  void add_inside(int pa, int pb, const Vec4& params);
   // m_solved from a solver's witness pair.
   void keep_solved(double distance, const Vec3& point_a, const Vec3& point_b, const Vec3& normal,
                    Element_kind kind_a, int element_a, const std::array<double, 2>& params_a,
@@ -379,8 +395,12 @@ class Body_pair_tracker {
     int pa = -1, pb = -1;
     Vec4 params = Vec4::Zero();
   } m_solved;
-  // body_closedness of each, and whether both are certified convex, made on first use.
+  // closed() of each, and whether both are certified convex, made on first use.
   signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;
+  double m_deep_checked = HUGE_VAL;  // the tracked minimum at check_deep's last check
+  Rigid_pose_3 m_deep_at;             // and X_AB there
+  bool m_meets_at_start = false;  // the start's solve found the surfaces crossing: this one
+  Distance_result m_start_solve;
 };
 
 // The features of a body: its faces, then its curves; a point body is its origin.

@@ -94,10 +94,33 @@ unsigned Extremal_tracker::edge_mask(const Vec4& params) const {
   return clamp_to_edges(p);
 }
 
-double Extremal_tracker::signed_distance(unsigned on_edge) const {
+namespace {
+
+// The outward direction (not unit) of surface f at q, point fp (with second derivatives): the
+// cross product of the tangents, or at a pole, where one tangent vanishes, its limit. Along a
+// collapsed u-edge at v0, f_u(u, v0 + h) = h f_uv + O(h^2), so f_u x f_v tends to the
+// direction of sign(h) f_uv x f_v, h > 0 at the lower bound of v (and likewise for v).
+Vec3 outward_direction(const Feature& f, const Feature_point& fp, const double* q, const Vec3& cross) {
+  const double lu = fp.d[0].squaredNorm(), lv = fp.d[1].squaredNorm();
+  Vec3 m = cross;
+  if (lu <= 1e-12 * lv) {
+    const double side = q[1] - f.lower(1) <= f.upper(1) - q[1] ? 1.0 : -1.0;
+    m = f.outward_sign() * side * fp.dd[0][1].cross(fp.d[1]);
+  } else if (lv <= 1e-12 * lu) {
+    const double side = q[0] - f.lower(0) <= f.upper(0) - q[0] ? 1.0 : -1.0;
+    m = f.outward_sign() * side * fp.d[0].cross(fp.dd[0][1]);
+  }
+  return m;
+}
+
+}  // namespace
+
+double Extremal_tracker::signed_distance(unsigned on_edge, const Vec4& params) const {
   // Inside when d points against the reference face's outward normal at an interior point of
   // the face. On a face edge the normal says nothing about the solid (beside a cylinder's cap
-  // rim, say, d points below the cap's plane while the bodies are apart): positive there.
+  // rim, say, d points below the cap's plane while the bodies are apart): positive there. At
+  // a pole (a collapsed edge, which is no edge of the face) the normal is the tangents'
+  // limit: a point entering a ball through its pole is inside.
   // The outward cross product stands for the unit normal (the sign is all that is read); one
   // whose squared length underflows or overflows has no direction, as the unit normal had none.
   const auto has_direction = [](const Vec3& m) {
@@ -107,11 +130,12 @@ double Extremal_tracker::signed_distance(unsigned on_edge) const {
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = m_system.distance;  // |ab| = |d|
   if (m_a.dimension() == 2) {
-    const Vec3& m = m_system.outward_a;
+    const Vec3 m = outward_direction(m_a, m_system.a, params.data(), m_system.outward_a);
     return ab.dot(m) < 0.0 && !(on_edge & 3u) && has_direction(m) ? -len : len;
   }
   if (m_b.dimension() == 2) {
-    const Vec3& m = m_system.outward_b;
+    const Vec3 m = outward_direction(m_b, m_system.b, params.data() + m_a.dimension(),
+                                     m_system.outward_b);
     return ab.dot(m) > 0.0 && !((on_edge >> m_a.dimension()) & 3u) && has_direction(m) ? -len
                                                                                         : len;
   }
@@ -166,7 +190,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   const unsigned lower = on_bound ? m_domain.lower_mask(p) : 0u;  // only read where on_bound
   // Kept for fill_result, which describes the pair this system was built at.
   m_last_on_edge = on_bound;
-  m_last_signed = signed_distance(on_bound);
+  m_last_signed = signed_distance(on_bound, params);
   Solve_mode mode = solve_mode_for(m_system);
   mode.scaled_shift = true;
   mode.damp_when_b_held = false;
@@ -245,7 +269,8 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     for (int k = 0; k < 4; ++k)
       if (edges & (1u << k)) errors[k] = 0.0;
     if (errors.maxCoeff() <= m_options.correction_tolerance) break;
-    const bool minimum = m_system.form == Formulation::Projection && signed_distance(edges) >= 0.0;
+    const bool minimum =
+        m_system.form == Formulation::Projection && signed_distance(edges, m_params) >= 0.0;
     const double before = merit(minimum);
     Vec4 U;
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
@@ -289,7 +314,7 @@ const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_W
                                                const Rigid_pose_3& X_WB) {
   build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false,
                     choose_form());
-  fill_result(t, signed_distance(edge_mask(m_params)));
+  fill_result(t, signed_distance(edge_mask(m_params), m_params));
   m_result.iterations = 0;
   m_result.status = Track_status::Tracking;
   m_result.degeneracy = Degeneracy::None;

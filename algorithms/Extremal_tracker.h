@@ -105,8 +105,8 @@ class Extremal_tracker {
   Formulation choose_form() const;
   // Bit k set when parameter k sits on a patch edge (poles excluded).
   unsigned edge_mask(const Vec4& params) const;
-  // Signed |d| for the system last built, at parameters whose edge_mask is `on_edge`.
-  double signed_distance(unsigned on_edge) const;
+  // Signed |d| for the system last built, at `params`, whose edge_mask is `on_edge`.
+  double signed_distance(unsigned on_edge, const Vec4& params) const;
   Degeneracy classify_singular() const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;

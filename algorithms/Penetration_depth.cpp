@@ -19,6 +19,7 @@
 #include "algorithms/internal/Bezier_net.h"
 #include "algorithms/internal/Time_budget.h"
 #include "kernel/Error.h"
+#include "kernel/Shapes.h"
 
 namespace extremal {
 
@@ -931,6 +932,20 @@ Overlap_test overlap_of(const Distance_result& apart, const Distance_hierarchy& 
   if (closed_b && inside(HA, X_WA, HB, X_WB)) out.kind = Overlap_kind::A_inside_B;
   else if (closed_a && inside(HB, X_WB, HA, X_WA)) out.kind = Overlap_kind::B_inside_A;
   return out;
+}
+
+bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W) {
+  // The clearance the winding number needs: the certified distance from x to the surface.
+  static const Body point = make_point_body();
+  static const Distance_hierarchy HP(point);
+  Distance_request request;
+  request.absolute_tolerance = 1e-9;
+  request.relative_tolerance = 1e-3;
+  request.max_nodes = 20000;
+  const Distance_result r =
+      extremal_distance(HP, Rigid_pose_3(Mat3::Identity(), x_W), H, X_W, request);
+  if (!(r.lower_bound > 0.0)) return false;
+  return winding_number(H, X_W, x_W, r.lower_bound).inside();
 }
 
 double signed_box_bound(const Bbox_3& a, const Bbox_3& b) {

@@ -193,6 +193,11 @@ struct Overlap_test {
                                       const Distance_hierarchy& HB, const Rigid_pose_3& X_WB,
                                       bool closed_b);
 
+// Whether the world point x lies inside the closed body of H placed by X_W, certified: its
+// distance from the surface bounded away from 0 and the winding number decided. False when
+// outside, on the surface or undecided; the caller checks that the body is closed.
+[[nodiscard]] bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W);
+
 // A lower bound on the signed distance of two bodies inside these world boxes: their distance
 // when apart, else minus the smallest overlap along a coordinate axis (overlap(n) of the hulls
 // is at most that of the boxes along it, so the depth is at most it).

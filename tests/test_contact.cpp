@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "algorithms/Body_pair_tracker.h"
+#include "algorithms/Penetration_depth.h"
 #include "kernel/Motion.h"
 #include "kernel/Shapes.h"
 
@@ -267,7 +268,8 @@ TEST(Contact, BodiesThatStartOverlappingReportTheirDepthFromTheFirstStep) {
   EXPECT_EQ(n.nan_count, 0);
 
   // A shaft in a bore (both solid: the shaft lies inside), turning and sliding on the axis:
-  // the depth is the radial way out, 3, on a continuum of equal pairs. Solved once.
+  // the depth is the radial way out, 3, on a continuum of equal pairs. Solved once, checked
+  // once.
   const Body bore = make_cylinder_body(2.0, 8.0), shaft = make_cylinder_body(1.0, 4.0);
   Body_pair_tracker tracker(bore, shaft);
   const Rigid_pose_3 X_bore(Mat3::Identity(), Vec3(0.0, 0.0, -2.0));
@@ -282,10 +284,93 @@ TEST(Contact, BodiesThatStartOverlappingReportTheirDepthFromTheFirstStep) {
     worst = std::max(worst, std::abs(r.distance + 3.0));
     EXPECT_EQ(r.status, Pair_status::Penetrating) << "t = " << t;
     if (i == 200) {
-      EXPECT_LE(r.audits, 1);
+      EXPECT_LE(r.audits, 2);  // the start, and one check of the depth (check_deep)
     }
   }
   EXPECT_LE(worst, 1e-9);
+}
+
+// Deep inside, the pair a tracker followed in can stop being the depth while it goes on
+// existing: a ball that passed the centre of a larger one still has its entry pair (deeper
+// than the exit pair), and once out the other side that pair is still there, negative, with
+// the bodies apart. Before check_deep, the ball below read -3.3 at the end (apart by 0.7), a
+// point that entered a ball through its pole read +0.2 inside (the pole had no normal), and
+// a point rising in a cylinder kept the depth to its side after the top cap came nearer.
+TEST(Contact, DeepPassagesReportTheDepthAndLeaveApart) {
+  // A ball of radius 0.3 through a unit ball along the centre line: |c| - 1.3 throughout.
+  const Body unit = make_sphere_body(1.0), small = make_sphere_body(0.3);
+  auto across = [](double t) { return Vec3(-2.0 + 40.0 * t, 0.0, 0.0); };
+  const Case_stats s = run_case(
+      "ball through a ball", unit, small,
+      [&](double t) {
+        return Motion_sample{Rigid_pose_3(Mat3::Identity(), across(t)),
+                             twist(Vec3(40.0, 0.0, 0.0), Vec3::Zero())};
+      },
+      [&](double t) { return across(t).norm() - 1.3; }, 0.1);
+  EXPECT_LE(s.max_error, 1e-9);
+  EXPECT_EQ(s.nan_count, 0);
+  EXPECT_GT(s.penetrating_steps, 60);
+
+  // A point through a unit ball along its axis, in and out at the poles: |z| - 1.
+  const Body point = make_point_body();
+  auto rise = [](double t) { return Vec3(0.0, 0.0, -2.0 + 40.0 * t); };
+  const Case_stats p = run_case(
+      "point through a ball's poles", unit, point,
+      [&](double t) {
+        return Motion_sample{Rigid_pose_3(Mat3::Identity(), rise(t)),
+                             twist(Vec3(0.0, 0.0, 40.0), Vec3::Zero())};
+      },
+      [&](double t) { return rise(t).norm() - 1.0; }, 0.1);
+  EXPECT_LE(p.max_error, 1e-9);
+  EXPECT_EQ(p.nan_count, 0);
+
+  // A point rising through a solid cylinder (radius 1, z in [0, 2]) off its axis: inside, the
+  // nearest of side, bottom and top; outside, the distance to the cap it is below or above.
+  const Body cylinder = make_cylinder_body(1.0, 2.0);
+  const double rho = std::hypot(0.3, 0.2);
+  auto up = [](double t) { return Vec3(0.3, 0.2, -1.0 + 40.0 * t); };
+  const Case_stats c = run_case(
+      "point up through a cylinder", cylinder, point,
+      [&](double t) {
+        return Motion_sample{Rigid_pose_3(Mat3::Identity(), up(t)),
+                             twist(Vec3(0.0, 0.0, 40.0), Vec3::Zero())};
+      },
+      [&](double t) {
+        const double z = up(t).z();
+        if (z < 0.0) return -z;
+        if (z > 2.0) return z - 2.0;
+        return -std::min({1.0 - rho, z, 2.0 - z});
+      },
+      0.1);
+  EXPECT_LE(c.max_error, 1e-9);
+  EXPECT_EQ(c.nan_count, 0);
+}
+
+// An ellipsoid turning fast (0.3 rad a step) sweeps its tip into a ball and out again within
+// a step or two: every row that overlaps is the certified depth of the two convex bodies
+// (signed_distance at the same poses). Before, the row that reached 1.1 deep in one step kept
+// the entry pair, 0.7 deeper than the depth.
+TEST(Contact, AFastSweepIntoABallReportsTheCertifiedDepth) {
+  const Body blade = make_ellipsoid_body(5.0, 0.5, 0.5), ball = make_sphere_body(0.5);
+  Body_pair_tracker tracker(blade, ball);
+  const Rigid_pose_3 X_ball(Mat3::Identity(), Vec3(0.0, 4.0, 0.0));
+  const Twist_3 spin = twist(Vec3::Zero(), Vec3(0.0, 0.0, 60.0));
+  const double dt = 0.005;
+  int overlapping = 0;
+  double worst = 0.0;
+  for (int i = 0; i <= 20; ++i) {
+    const double t = i * dt;
+    const Rigid_pose_3 X_blade(Eigen::AngleAxisd(60.0 * t, Vec3::UnitZ()).toRotationMatrix(),
+                               Vec3::Zero());
+    const Pair_report& r = tracker.step(t, X_blade, spin, X_ball, Twist_3{}, dt);
+    const Signed_distance_result e = signed_distance(blade, X_blade, ball, X_ball);
+    ASSERT_TRUE(e.is_certified());
+    ASSERT_TRUE(std::isfinite(r.distance));
+    worst = std::max(worst, std::abs(r.distance - e.distance));
+    overlapping += e.distance < 0.0;
+  }
+  EXPECT_GE(overlapping, 2);
+  EXPECT_LE(worst, 1e-8);
 }
 
 }  // namespace
