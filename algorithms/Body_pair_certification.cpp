@@ -48,10 +48,6 @@ constexpr double k_proving_steps = 2.0;
 // it reached, or falls back to the usual solve.
 constexpr double k_crease_fraction = 0.125;
 constexpr int k_crease_nodes = 200;
-// A tracked pair carries a crease only when its tracker's normalised errors (sines of the
-// angles off stationarity) along its free parameters are below this: the distance it is above
-// its minimum is then about d e^2 / 2, far below the seeding tolerance.
-
 // The line B turns about relative to A (world, kind Axis; none when they do not turn
 // relatively): the screw axis of the relative twist, through w x v(0) / |w|^2 along w.
 Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& V_B,

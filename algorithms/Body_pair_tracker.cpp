@@ -497,13 +497,19 @@ bool Body_pair_tracker::seed_from(const Distance_result& g, const Rigid_pose_3& 
   params_from_global(A, g.params_a, params.data());
   params_from_global(m_model_b->primitives()[pb], g.params_b, params.data() + A.feature.dimension());
   prefer_central(pa, pb, X_WA, X_WB, params);
+  place(pa, pb, params, X_WA, X_WB);
+  return true;
+}
+
+int Body_pair_tracker::place(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
+                             const Rigid_pose_3& X_WB) {
   for (std::size_t k = 0; k < m_live.size(); ++k)
     if (m_live[k].alive && m_live[k].pa == pa && m_live[k].pb == pb && !m_live[k].closed_form) {
       m_live[k].tracker.reset(params);  // another basin of the same pair
       m_live[k].stepped = -1;
-      return true;
+      return static_cast<int>(k);
     }
-  add_live(pa, pb, params);
+  const int slot = add_live(pa, pb, params);
   const std::uint64_t key = pair_key(pa, pb);
   if (find_candidate(key) < 0) {
     Candidate c;
@@ -514,7 +520,7 @@ bool Body_pair_tracker::seed_from(const Distance_result& g, const Rigid_pose_3& 
                                          [](const Candidate& x, std::uint64_t k) { return x.key < k; }),
                         c);
   }
-  return true;
+  return slot;
 }
 
 void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
@@ -531,7 +537,10 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   // first step).
   seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
   m_meets_at_start = g.status == Distance_status::Intersecting;
-  if (m_meets_at_start) m_start_solve = g;
+  if (m_meets_at_start) {
+    m_start_solve = g;
+    m_start_relative = X_WA.inverse() * X_WB;
+  }
   if (seed_overlap(g, X_WA, X_WB, false))  // inside, the broad phase reaches across the depth
     broad_phase(X_WA, X_WB, -m_solved.distance + reach_margin());
 }
@@ -541,7 +550,6 @@ void Body_pair_tracker::keep_solved(double distance, const Vec3& point_a, const 
                                     const std::array<double, 2>& params_a, Element_kind kind_b,
                                     int element_b, const std::array<double, 2>& params_b) {
   Solved& s = m_solved;
-  s.step = m_steps;
   s.distance = distance;
   s.point_a = point_a;
   s.point_b = point_b;
@@ -559,30 +567,46 @@ void Body_pair_tracker::keep_solved(double distance, const Vec3& point_a, const 
 
 bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA,
                                      const Rigid_pose_3& X_WB, bool local_seeds_failed,
-                                     double deeper) {
+                                     double deeper, const Overlap_test* known) {
   keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
               g.kind_b, g.element_b, g.params_b);
   const Distance_hierarchy& HA = m_model_a->hierarchy();
   const Distance_hierarchy& HB = m_model_b->hierarchy();
-  const Overlap_test overlap = overlap_of(g, HA, X_WA, closed(0), HB, X_WB, closed(1));
+  const Overlap_test overlap =
+      known != nullptr ? *known : overlap_of(g, HA, X_WA, closed(0), HB, X_WB, closed(1));
   if (overlap.kind == Overlap_kind::None) return false;
-  // A point inside a body: its depth is its distance from the surface, which g holds.
-  if ((overlap.kind == Overlap_kind::A_inside_B && m_model_a->body().is_point) ||
-      (overlap.kind == Overlap_kind::B_inside_A && m_model_b->body().is_point)) {
-    const double tol = std::max(m_options.global.absolute_tolerance,
-                                m_options.global.relative_tolerance * g.distance);
-    if (!g.is_certified() || !(-g.distance > deeper + tol)) return false;
+  // Where the surfaces meet, the hulls' depth is the bodies' own when both are convex, or
+  // when each witness lies inside the other body (two cylinders side by side); not so for a
+  // nut on a bolt, whose hulls overlap by the bolt's length with the bolt's end outside the
+  // nut. There the trackers seeded at the common points find the local pair first.
+  const bool meet = overlap.kind == Overlap_kind::Surfaces_meet;
+  if (meet && !convex() && (!local_seeds_failed || !closed(0) || !closed(1))) return false;
+  if (!meet) {
+    // One inside the other: at least as deep as the gap between the surfaces (the answer
+    // should no depth be found), exactly so for a point, whose depth is its distance from the
+    // surface.
     keep_solved(-g.distance, g.point_a, g.point_b, -g.normal, g.kind_a, g.element_a, g.params_a,
                 g.kind_b, g.element_b, g.params_b);
-    if (m_solved.pa < 0 || m_solved.pb < 0) return false;
-    add_inside(m_solved.pa, m_solved.pb, m_solved.params);
-    return true;
+    if (m_model_a->body().is_point || m_model_b->body().is_point) {
+      const double tol = std::max(m_options.global.absolute_tolerance,
+                                  m_options.global.relative_tolerance * g.distance);
+      if (!g.is_certified() || !(-g.distance > deeper + tol) || m_solved.pa < 0 ||
+          m_solved.pb < 0)
+        return false;
+      add_inside(m_solved.pa, m_solved.pb, m_solved.params, X_WA, X_WB);
+      return true;
+    }
   }
-  const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, m_options.overlap);
+  // Otherwise the hulls' depth (as `extremal distance --signed` reports it). Against a
+  // tracked depth, only whether a pair is shallower than it matters: a coarse search, whose
+  // certified bound decides (the tracker's corrections converge the seed).
+  const bool against = deeper > -HUGE_VAL;
+  Signed_distance_request request = m_options.overlap;
+  if (against) request.relative_tolerance = std::max(request.relative_tolerance, 1e-3);
+  const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
-  const double tol = std::max(m_options.overlap.absolute_tolerance,
-                              m_options.overlap.relative_tolerance * std::abs(h.distance));
-  if (!(h.distance > deeper + tol)) return false;  // a tracker holds it already
+  if (!((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
+    return false;  // a tracker holds it already
   int pa = m_model_a->primitive_of(h.kind_a, h.element_a);
   int pb = m_model_b->primitive_of(h.kind_b, h.element_b);
   if (pa < 0 || pb < 0) return false;
@@ -591,28 +615,17 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   params_from_global(m_model_b->primitives()[pb], h.params_b,
                      params.data() + m_model_a->primitives()[pa].feature.dimension());
   centre_depth_seed(pa, pb, X_WA, X_WB, h.normal, h.distance, params);
-  const Primitive& A = m_model_a->primitives()[pa];
-  const Primitive& B = m_model_b->primitives()[pb];
-  // One body inside the other has no common point to start from: the hulls' depth it is (as
-  // `extremal distance --signed` reports it). Where the surfaces meet, the hulls' depth is the
-  // bodies' own when both are convex, or when each witness lies inside the other body (two
-  // cylinders side by side); not so for a nut on a bolt, whose hulls overlap by the bolt's
-  // length with the bolt's end outside the nut. There the trackers seeded at the common
-  // points find the local pair.
-  if (overlap.kind == Overlap_kind::Surfaces_meet) {
-    if (m_convex < 0)
-      m_convex = is_certified_convex(m_model_a->body()) && is_certified_convex(m_model_b->body());
-    if (m_convex == 0) {
-      if (!local_seeds_failed || !closed(0) || !closed(1)) return false;
-      Feature_point fa, fb;
-      evaluate_feature(A.feature, X_WA, params.data(), fa, 0);
-      evaluate_feature(B.feature, X_WB, params.data() + A.feature.dimension(), fb, 0);
-      if (!inside_body(HB, X_WB, fa.p) || !inside_body(HA, X_WA, fb.p)) return false;
-    }
+  if (meet && !convex()) {
+    const Primitive& A = m_model_a->primitives()[pa];
+    const Primitive& B = m_model_b->primitives()[pb];
+    Feature_point fa, fb;
+    evaluate_feature(A.feature, X_WA, params.data(), fa, 0);
+    evaluate_feature(B.feature, X_WB, params.data() + A.feature.dimension(), fb, 0);
+    if (!inside_body(HB, X_WB, fa.p) || !inside_body(HA, X_WA, fb.p)) return false;
   }
   keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
               h.kind_b, h.element_b, h.params_b);
-  add_inside(pa, pb, params);
+  add_inside(pa, pb, params, X_WA, X_WB);
   return true;
 }
 
@@ -622,10 +635,21 @@ bool Body_pair_tracker::closed(int side) {
   return c == 1;
 }
 
-void Body_pair_tracker::add_inside(int pa, int pb, const Vec4& params) {
-  const int k = add_live(pa, pb, params);
-  m_live[k].through_contact = true;  // the depth's side of contact
+void Body_pair_tracker::add_inside(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
+                                   const Rigid_pose_3& X_WB) {
+  m_live[place(pa, pb, params, X_WA, X_WB)].through_contact = true;  // the depth's side
   ++m_report.seeds;
+}
+
+bool Body_pair_tracker::convex() {
+  if (m_convex < 0)
+    m_convex = is_certified_convex(m_model_a->body()) && is_certified_convex(m_model_b->body());
+  return m_convex == 1;
+}
+
+double Body_pair_tracker::depth_tolerance(double depth) const {
+  return std::max(m_options.overlap.absolute_tolerance,
+                  m_options.overlap.relative_tolerance * std::abs(depth));
 }
 
 bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -636,8 +660,9 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // entry pair, deeper than the exit pair, and once out the other side the entry pair is
   // still there, negative, with the bodies apart.
   // Such a stale pair grows deeper as the bodies move on: the check runs again once the
-  // depth grew by a thousandth of the smaller body since the last one (a pair that stays as
-  // deep, a shaft turning in a bore, is checked once).
+  // depth grew by a hundredth of the smaller body since the last one (a pair that stays as
+  // deep, a shaft turning in a bore, is checked once). Between checks a stale pair can be off
+  // by twice that; each check costs a solve and, for convex bodies, a coarse hull depth.
   // Closed bodies (or points) only: an open sheet's inside is the side its normal points away
   // from, and a pair behind it stays inside however far (a plane passed through another keeps
   // its sign).
@@ -646,18 +671,17 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
     if (L.alive && L.valid && L.result.distance == best) deepest = &L;
   const bool solid_a = closed(0) || m_model_a->body().is_point;
   const bool solid_b = closed(1) || m_model_b->body().is_point;
+  // Sizes: the smaller body's, or the other one's for a point.
+  const bool point = m_model_a->body().is_point || m_model_b->body().is_point;
+  const double da = box_diagonal(m_model_a->box()), db = box_diagonal(m_model_b->box());
+  const double size = point ? std::max(da, db) : std::min(da, db);
   // (The normal form holds for the step that reached a depth in one stride: fast motion.)
-  const double size = std::min(box_diagonal(m_model_a->box()), box_diagonal(m_model_b->box()));
   if (!solid_a || !solid_b || deepest == nullptr || deepest->closed_form ||
       (deepest->result.normal_form && -best <= 0.1 * size)) {
     m_deep_checked = HUGE_VAL;
     return false;
   }
-  const bool point = m_model_a->body().is_point || m_model_b->body().is_point;
-  const double step = 1e-3 * (point ? std::max(box_diagonal(m_model_a->box()),
-                                               box_diagonal(m_model_b->box()))
-                                    : std::min(box_diagonal(m_model_a->box()),
-                                               box_diagonal(m_model_b->box())));
+  const double step = 1e-2 * size;
   // A point inside a body is also checked as it moves: its depth is its distance from the
   // surface, whose nearest face changes without the tracked one growing deeper (a point rising
   // in a cylinder nears the top cap); that check is one point query.
@@ -670,10 +694,12 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   const Distance_result g = global_solve(X_WA, X_WB);
   const Overlap_test overlap = overlap_of(g, m_model_a->hierarchy(), X_WA, closed(0),
                                           m_model_b->hierarchy(), X_WB, closed(1));
-  auto drop_inside = [&](double above) {  // the penetrating trackers deeper than `above`
+  // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
+  // the ones just placed (not stepped yet).
+  auto drop_inside = [&](double above) {
     for (std::size_t k = 0; k < m_live.size(); ++k) {
-      Live& L = m_live[k];
-      if (L.alive && L.valid && L.result.distance < -m_options.contact_tolerance &&
+      const Live& L = m_live[k];
+      if (L.alive && L.stepped != -1 && L.result.distance < -m_options.contact_tolerance &&
           L.result.distance < above)
         kill(static_cast<int>(k));
     }
@@ -687,14 +713,10 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   }
   // Still overlapping. Where the hulls' depth is the bodies' (one inside the other, or both
   // convex), trackers deeper than it go and its pair is tracked; otherwise the local pairs stay.
-  if (m_convex < 0)
-    m_convex = is_certified_convex(m_model_a->body()) && is_certified_convex(m_model_b->body());
-  if (overlap.kind == Overlap_kind::Surfaces_meet && m_convex == 0) return false;
-  if (!seed_overlap(g, X_WA, X_WB, false, best)) return false;
+  if (overlap.kind == Overlap_kind::Surfaces_meet && !convex()) return false;
+  if (!seed_overlap(g, X_WA, X_WB, false, best, &overlap)) return false;
   m_deep_checked = m_solved.distance;
-  const double tol = std::max(m_options.overlap.absolute_tolerance,
-                              m_options.overlap.relative_tolerance * std::abs(m_solved.distance));
-  drop_inside(m_solved.distance - tol);
+  drop_inside(m_solved.distance - depth_tolerance(m_solved.distance));
   return true;
 }
 
@@ -962,53 +984,35 @@ void Body_pair_tracker::fill_report() {
   }
   r.trackers = trackers;
   r.candidates = static_cast<int>(m_candidates.size());
-  const double tol = m_options.contact_tolerance;
+  // No tracker holds: the solver's answer of this step (a step whose trackers hold nothing
+  // solves again).
   r.solved = best < 0;
-  if (best < 0) {
-    // No tracker holds: the solver's answer of this step (there is one: a step whose trackers
-    // hold nothing solves again).
-    const Solved& s = m_solved;
-    r.distance = s.distance;
-    r.point_a = s.point_a;
-    r.point_b = s.point_b;
-    r.normal = s.normal;
-    r.degeneracy = Degeneracy::None;
-    r.feature_a = r.feature_b = r.edge_a = r.edge_b = -1;
-    r.params.setZero();
-    if (s.pa >= 0 && s.pb >= 0) {
-      const int na = m_model_a->primitives()[s.pa].feature.dimension();
-      double qa[2] = {0, 0}, qb[2] = {0, 0};
-      int da = 0, db = 0;
-      r.feature_a = report_feature(*m_model_a, s.pa, s.params.data(), qa, r.edge_a, da);
-      r.feature_b = report_feature(*m_model_b, s.pb, s.params.data() + na, qb, r.edge_b, db);
-      for (int c = 0; c < da; ++c) r.params[c] = qa[c];
-      for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
-    }
-    r.status = s.distance < -tol ? Pair_status::Penetrating
-               : s.distance <= tol ? Pair_status::Contact
-                                   : Pair_status::Tracking;
-    return;
-  }
-  const Live& L = m_live[best];
-  const Track_result& tr = L.result;
-  r.distance = tr.distance;
-  r.point_a = tr.point_a;
-  r.point_b = tr.point_b;
-  r.normal = tr.normal;
-  r.degeneracy = tr.degeneracy;
-  const int na = m_model_a->primitives()[L.pa].feature.dimension();
-  double qa[2] = {0, 0}, qb[2] = {0, 0};
-  int da = 0, db = 0;
-  r.feature_a = report_feature(*m_model_a, L.pa, tr.params.data(), qa, r.edge_a, da);
-  r.feature_b = report_feature(*m_model_b, L.pb, tr.params.data() + na, qb, r.edge_b, db);
+  const Solved& s = m_solved;
+  const Track_result* tr = best >= 0 ? &m_live[best].result : nullptr;
+  const int pa = tr ? m_live[best].pa : s.pa, pb = tr ? m_live[best].pb : s.pb;
+  const Vec4& params = tr ? tr->params : s.params;
+  r.distance = tr ? tr->distance : s.distance;
+  r.point_a = tr ? tr->point_a : s.point_a;
+  r.point_b = tr ? tr->point_b : s.point_b;
+  r.normal = tr ? tr->normal : s.normal;
+  r.degeneracy = tr ? tr->degeneracy : Degeneracy::None;
+  r.feature_a = r.feature_b = r.edge_a = r.edge_b = -1;
   r.params.setZero();
-  for (int c = 0; c < da; ++c) r.params[c] = qa[c];
-  for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
-  r.status = tr.distance < -tol                             ? Pair_status::Penetrating
-             : tr.distance <= tol                           ? Pair_status::Contact
-             : tr.status == Track_status::Singular_fallback ? Pair_status::Fallback
-             : tr.status == Track_status::On_boundary       ? Pair_status::Boundary
-                                                            : Pair_status::Tracking;
+  if (pa >= 0 && pb >= 0) {
+    const int na = m_model_a->primitives()[pa].feature.dimension();
+    double qa[2] = {0, 0}, qb[2] = {0, 0};
+    int da = 0, db = 0;
+    r.feature_a = report_feature(*m_model_a, pa, params.data(), qa, r.edge_a, da);
+    r.feature_b = report_feature(*m_model_b, pb, params.data() + na, qb, r.edge_b, db);
+    for (int c = 0; c < da; ++c) r.params[c] = qa[c];
+    for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
+  }
+  const double tol = m_options.contact_tolerance;
+  r.status = r.distance < -tol                                     ? Pair_status::Penetrating
+             : r.distance <= tol                                   ? Pair_status::Contact
+             : tr && tr->status == Track_status::Singular_fallback ? Pair_status::Fallback
+             : tr && tr->status == Track_status::On_boundary       ? Pair_status::Boundary
+                                                                   : Pair_status::Tracking;
 }
 
 const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
@@ -1022,6 +1026,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     r.point_a = r.point_b = r.normal = Vec3::Zero();
     r.feature_a = r.feature_b = r.edge_a = r.edge_b = -1;
     r.degeneracy = Degeneracy::None;
+    r.solved = false;
     r.trackers = 0;
     r.candidates = 0;
     m_started = false;  // re-seed when the pair comes back within the threshold
@@ -1052,14 +1057,6 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       if (L.alive && L.valid) best = std::min(best, L.result.distance);
   };
   step_all();
-  // Non-convex bodies whose surfaces crossed at the start: when the trackers seeded at the
-  // common points found no penetration pair, the hulls' may be one (see seed_overlap).
-  if (m_meets_at_start) {  // (at the start's poses: start() runs in this step)
-    m_meets_at_start = false;
-    if (!(best < -m_options.contact_tolerance) &&
-        seed_overlap(m_start_solve, X_WA, X_WB, true))
-      step_all();
-  }
   // Deep inside, the tracked pair may no longer be the depth (see check_deep).
   if (!(best < -m_options.contact_tolerance)) m_deep_checked = HUGE_VAL;
   else if (check_deep(X_WA, X_WB, best)) step_all();
@@ -1084,9 +1081,24 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       check_vacated(X_WA, X_WB, best);
     else if (seed_in_contact(X_WA, X_WB))
       step_all();
-  } else {
+  }
+  // Non-convex bodies whose surfaces crossed at the start: when none of the trackers seeded at
+  // the common points (the start's and the candidates') found a penetration pair, the hulls'
+  // may be one (see seed_overlap). At the start's poses only (start() may run before a step).
+  if (m_meets_at_start) {
+    m_meets_at_start = false;
+    if (!(best < -m_options.contact_tolerance) && same_pose(m_relative, m_start_relative) &&
+        seed_overlap(m_start_solve, X_WA, X_WB, true))
+      step_all();
+  }
+  if (!std::isfinite(best)) {
     // Nothing on the bodies (witnesses left them, or trackers wandering in a deep overlap): the
-    // certified solver seeds again, and its answer is reported while no tracker holds.
+    // certified solver seeds again, and its answer is reported while no tracker holds. The
+    // penetrating trackers that hold nothing go first (they would pile up).
+    for (std::size_t k = 0; k < m_live.size(); ++k)
+      if (m_live[k].alive && !m_live[k].valid &&
+          m_live[k].result.distance < -m_options.contact_tolerance)
+        kill(static_cast<int>(k));
     const Distance_result g = global_solve(X_WA, X_WB);
     if (seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
     if (seed_overlap(g, X_WA, X_WB, true)) ++r.reseeds;

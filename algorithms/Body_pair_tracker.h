@@ -201,8 +201,10 @@ class Body_pair_tracker {
   // witnesses lies inside the other body.
   // Only when the depth is above `deeper` by more than its tolerance (a tracked pair as deep
   // holds it already).
+  // `known`: overlap_of(g) when the caller has it.
   bool seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                    bool local_seeds_failed, double deeper = -HUGE_VAL);
+                    bool local_seeds_failed, double deeper = -HUGE_VAL,
+                    const Overlap_test* known = nullptr);
   // Moves a penetration seed on pair (pa, pb) (unit `n` from A to B, `depth` < 0) to the most
   // central pair of the same depth when it lies on a continuum of them, on its faces or on
   // faces beside its witnesses.
@@ -215,8 +217,16 @@ class Body_pair_tracker {
   bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
   // Whether body A (side 0) or B is closed (body_closedness, made on first use).
   bool closed(int side);
+  // A tracker on pair (pa, pb) from `params`: the pair's live one moved there (another basin),
+  // or a new one with a candidate entry. Returns its slot.
+  int place(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // A tracker on a penetration pair found by a solver (counted as a seed).
-  void add_inside(int pa, int pb, const Vec4& params);
+  void add_inside(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
+                  const Rigid_pose_3& X_WB);
+  // Whether both bodies are certified convex (made on first use).
+  bool convex();
+  // The depth search's tolerance at `depth` (Body_pair_options::overlap).
+  double depth_tolerance(double depth) const;
   // m_solved from a solver's witness pair.
   void keep_solved(double distance, const Vec3& point_a, const Vec3& point_b, const Vec3& normal,
                    Element_kind kind_a, int element_a, const std::array<double, 2>& params_a,
@@ -387,9 +397,8 @@ class Body_pair_tracker {
   long m_steps = 0;
   Pair_report m_report;
   // The last answer of the solver (start or re-seed), reported at its step when no tracker
-  // holds: the step it was made at, and the report's fields.
+  // holds: the report's fields.
   struct Solved {
-    long step = -1;
     double distance = 0.0;
     Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
     int pa = -1, pb = -1;
@@ -399,8 +408,9 @@ class Body_pair_tracker {
   signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;
   double m_deep_checked = HUGE_VAL;  // the tracked minimum at check_deep's last check
   Rigid_pose_3 m_deep_at;             // and X_AB there
-  bool m_meets_at_start = false;  // the start's solve found the surfaces crossing: this one
-  Distance_result m_start_solve;
+  bool m_meets_at_start = false;  // the start's solve found the surfaces crossing: this one,
+  Distance_result m_start_solve;  // at this relative pose
+  Rigid_pose_3 m_start_relative;
 };
 
 // The features of a body: its faces, then its curves; a point body is its origin.

@@ -921,7 +921,11 @@ Overlap_test overlap_of(const Distance_result& apart, const Distance_hierarchy& 
   if (!(apart.lower_bound > 0.0)) return out;
   auto inside = [&](const Distance_hierarchy& inner, const Rigid_pose_3& X_in,
                     const Distance_hierarchy& outer, const Rigid_pose_3& X_out) {
+    const Bbox_3 box = transformed(outer.box(), X_out);  // holds the outer body
     for (const Vec3& x : sample_points(inner, X_in)) {
+      bool in_box = true;
+      for (int k = 0; k < 3 && in_box; ++k) in_box = x[k] >= box.min(k) && x[k] <= box.max(k);
+      if (!in_box) continue;  // outside the box: winding number 0
       const Winding_number w = winding_number(outer, X_out, x, apart.lower_bound);
       out.winding_cells += w.cells;
       if (!w.determined) out.unknown = true;

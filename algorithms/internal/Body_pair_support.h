@@ -20,8 +20,10 @@ inline double box_diagonal(const Bbox_3& b) {
                    (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
 }
 
-// A tracker's normalised projection errors (Track_result) within this: converged on its pair
-// (a crease tie, a settled seed).
+// A tracker's normalised projection errors (Track_result: sines of the angles off
+// stationarity) within this along its free parameters: converged on its pair. A tracked pair
+// carries a crease only then: it is about d e^2 / 2 above its minimum, far below the seeding
+// tolerance.
 constexpr double k_converged_error = 1e-6;
 // Beyond this, inside the bodies: not tracking a penetration pair at all (a Newton flow
 // wandering outside the basin of one), where a lagging tracker stays orders of magnitude below.
