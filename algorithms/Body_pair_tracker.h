@@ -124,10 +124,6 @@ struct Body_pair_options {
     r.max_nodes = 3000;
     return r;
   }();
-  // The certified solver's request for the start and the audits. Without the bounds about
-  // centres and axes of symmetry: with them the start at a ball's pole above a cylinder's cap
-  // centre (bench/stress_suite c0_cylinder) lands the tracker's first step 1.1e-6 off, a pole
-  // start-up transient not yet mended.
   // Bodies that overlap when a tracker starts or re-seeds (surfaces meet, or one inside the
   // other): the penetration pair of their convex hulls (hull_signed_distance) seeds a tracker
   // that reports the depth. The cells bound the cost where the depth has a continuum of
@@ -139,6 +135,10 @@ struct Body_pair_options {
     r.max_cells = 4000;
     return r;
   }();
+  // The certified solver's request for the start and the audits. Without the bounds about
+  // centres and axes of symmetry: with them the start at a ball's pole above a cylinder's cap
+  // centre (bench/stress_suite c0_cylinder) lands the tracker's first step 1.1e-6 off, a pole
+  // start-up transient not yet mended.
   Distance_request global = [] {
     Distance_request r;
     r.absolute_tolerance = 1e-7;

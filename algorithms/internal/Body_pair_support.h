@@ -1,5 +1,6 @@
-// What the body-pair tracker's two files share (Body_pair_tracker.cpp: tracks, broad phase,
-// steps; Body_pair_certification.cpp: the candidate pairs without a tracker). Not API.
+// What the body-pair tracker's files share (Body_pair_tracker.cpp: tracks, broad phase,
+// steps; Body_pair_certification.cpp: the candidate pairs without a tracker;
+// Body_pair_overlap.cpp: bodies that overlap). Not API.
 #pragma once
 
 #include <algorithm>
@@ -28,6 +29,16 @@ constexpr double k_converged_error = 1e-6;
 // Beyond this, inside the bodies: not tracking a penetration pair at all (a Newton flow
 // wandering outside the basin of one), where a lagging tracker stays orders of magnitude below.
 constexpr double k_wandering_error = 1e-2;
+
+// How far parameters sit from the middle of their domain (0 at the centre, 1 at a corner).
+inline double off_centre(const Feature& f, const double* p) {
+  double s = 0.0;
+  for (int i = 0; i < f.dimension(); ++i) {
+    const double mid = 0.5 * (f.lower(i) + f.upper(i)), half = 0.5 * (f.upper(i) - f.lower(i));
+    if (half > 0.0) s += ((p[i] - mid) / half) * ((p[i] - mid) / half);
+  }
+  return s;
+}
 
 // A candidate pair's key: primitive of A in the high half, of B in the low.
 inline std::uint64_t pair_key(int a, int b) {

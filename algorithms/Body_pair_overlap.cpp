@@ -1,0 +1,295 @@
+// The body-pair tracker where the bodies overlap (Body_pair_tracker.h): seeding the depth of
+// bodies that start or are found overlapping (one inside the other, convex, or where the
+// trackers at the common points find nothing), and checking deep inside whether the tracked
+// pair is still the depth (README, "Distances, contact and penetration").
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/Pair_geometry.h"
+#include "algorithms/Penetration_depth.h"
+#include "algorithms/internal/Body_pair_support.h"
+
+namespace extremal {
+
+using internal::approach_bound;
+using internal::box_diagonal;
+using internal::off_centre;
+using internal::params_from_global;
+
+void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA,
+                                          const Rigid_pose_3& X_WB, const Vec3& n, double depth,
+                                          Vec4& params) const {
+  // The hull's witnesses of a continuum of equal penetration pairs (a shaft in a bore, flat on
+  // flat, two cylinders side by side) may sit on the faces' rims, even on a cap beside the
+  // side that holds the continuum, where a tracker's first step leaves it. Points of a face
+  // at a witness whose outward normal is the depth's direction, moved by the depth, that lie
+  // on a face at the other witness (with the opposite normal) are pairs of the same depth:
+  // the most central is kept. Loose tolerances: a depth whose budget ran out is a little off,
+  // and this is a seed.
+  const Tracking_model& MA = *m_model_a;
+  const Tracking_model& MB = *m_model_b;
+  if (!MA.primitives()[pa].is_surface() || !MB.primitives()[pb].is_surface()) return;
+  Feature_point wa, wb;
+  evaluate_feature(MA.primitives()[pa].feature, X_WA, params.data(), wa, 0);
+  evaluate_feature(MB.primitives()[pb].feature, X_WB, params.data() + 2, wb, 0);
+  const double tol = 1e-4 * std::max({1.0, std::abs(depth), box_diagonal(MA.box()),
+                                      box_diagonal(MB.box())});
+  // The faces whose boxes hold a witness (its own, and those across the rim it sits on).
+  auto faces_at = [tol](const Tracking_model& M, const Rigid_pose_3& X, const Vec3& w, int own,
+                        std::vector<int>& out) {
+    out.assign(1, own);
+    const Vec3 b = X.inverse().apply_point(w);
+    for (int p = 0; p < static_cast<int>(M.primitives().size()); ++p) {
+      const Primitive& P = M.primitives()[p];
+      if (p == own || !P.is_surface()) continue;
+      bool in = true;
+      for (int k = 0; k < 3 && in; ++k) in = b[k] >= P.box.min(k) - tol && b[k] <= P.box.max(k) + tol;
+      if (in) out.push_back(p);
+    }
+  };
+  std::vector<int> faces_a, faces_b;
+  faces_at(MA, X_WA, wa.p, pa, faces_a);
+  faces_at(MB, X_WB, wb.p, pb, faces_b);
+  constexpr double k_aligned = 1.0 - 1e-6;
+  constexpr int n_samples = 8;
+  const Rigid_pose_3 identity;
+  double best = off_centre(MA.primitives()[pa].feature, params.data()) +
+                off_centre(MB.primitives()[pb].feature, params.data() + 2);
+  int best_a = pa, best_b = pb;
+  Vec4 chosen = params;
+  for (int fa : faces_a)
+    for (int fb : faces_b)
+      for (int side = 0; side < 2; ++side) {
+        const Feature& A = MA.primitives()[fa].feature;
+        const Feature& B = MB.primitives()[fb].feature;
+        const Feature& F = side == 0 ? A : B;
+        const Feature& G = side == 0 ? B : A;
+        const Rigid_pose_3& XF = side == 0 ? X_WA : X_WB;
+        const Rigid_pose_3& XG = side == 0 ? X_WB : X_WA;
+        const Vec3 dir = side == 0 ? n : Vec3(-n);  // F's outward normal at its support points
+        const Vec3 shift = side == 0 ? Vec3(depth * n) : Vec3(-depth * n);
+        // Parameter lines through the witness where F is its face (a cylinder's generator),
+        // and Newton's projection on G from the witness where G is its face.
+        const bool own_f = side == 0 ? fa == pa : fb == pb;
+        const bool own_g = side == 0 ? fb == pb : fa == pa;
+        const double* f0 = params.data() + (side == 0 ? 0 : 2);
+        const double* w0 = params.data() + (side == 0 ? 2 : 0);
+        const Vec4 g0 = own_g ? Vec4(w0[0], w0[1], 0.0, 0.0)
+                              : Vec4(0.5 * (G.lower(0) + G.upper(0)), 0.5 * (G.lower(1) + G.upper(1)),
+                                     0.0, 0.0);
+        auto try_point = [&](const double* q) {
+          Feature_point fp;
+          evaluate_feature(F, XF, q, fp, 1);
+          if (!(F.outward_sign() * unit_normal(fp.d[0].cross(fp.d[1])).dot(dir) >= k_aligned))
+            return;
+          const Vec3 x = fp.p + shift;
+          const Feature target = Feature::point(x);
+          const Newton_result r =
+              solve_pair_at_rest({&G, &XG, nullptr}, {&target, &identity, nullptr}, g0);
+          Feature_point gp;
+          evaluate_feature(G, XG, r.params.data(), gp, 1);
+          if (!((gp.p - x).norm() <= tol) ||
+              !(-G.outward_sign() * unit_normal(gp.d[0].cross(gp.d[1])).dot(dir) >= k_aligned))
+            return;
+          Vec4 cand;
+          if (side == 0) cand << q[0], q[1], r.params[0], r.params[1];
+          else cand << r.params[0], r.params[1], q[0], q[1];
+          if (!MA.contains(fa, cand.data()) || !MB.contains(fb, cand.data() + 2)) return;
+          const double c = off_centre(A, cand.data()) + off_centre(B, cand.data() + 2);
+          if (c < best) best = c, chosen = cand, best_a = fa, best_b = fb;
+        };
+        for (int i = 0; i < n_samples; ++i) {
+          const double u = F.lower(0) + (F.upper(0) - F.lower(0)) * (i + 0.5) / n_samples;
+          for (int j = 0; j < n_samples; ++j) {
+            const double v = F.lower(1) + (F.upper(1) - F.lower(1)) * (j + 0.5) / n_samples;
+            const double grid[2] = {u, v}, along_v[2] = {f0[0], v}, along_u[2] = {u, f0[1]};
+            try_point(grid);
+            if (own_f && i == 0) try_point(along_v);
+            if (own_f && j == 0) try_point(along_u);
+          }
+        }
+      }
+  pa = best_a;
+  pb = best_b;
+  params = chosen;
+}
+
+void Body_pair_tracker::keep_solved(double distance, const Vec3& point_a, const Vec3& point_b,
+                                    const Vec3& normal, Element_kind kind_a, int element_a,
+                                    const std::array<double, 2>& params_a, Element_kind kind_b,
+                                    int element_b, const std::array<double, 2>& params_b) {
+  Solved& s = m_solved;
+  s.distance = distance;
+  s.point_a = point_a;
+  s.point_b = point_b;
+  s.normal = normal;
+  s.pa = element_a >= 0 ? m_model_a->primitive_of(kind_a, element_a) : -1;
+  s.pb = element_b >= 0 ? m_model_b->primitive_of(kind_b, element_b) : -1;
+  s.params.setZero();
+  if (s.pa >= 0 && s.pb >= 0) {
+    const Primitive& A = m_model_a->primitives()[s.pa];
+    params_from_global(A, params_a, s.params.data());
+    params_from_global(m_model_b->primitives()[s.pb], params_b,
+                       s.params.data() + A.feature.dimension());
+  }
+}
+
+bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA,
+                                     const Rigid_pose_3& X_WB, bool local_seeds_failed,
+                                     double deeper, const Overlap_test* known) {
+  keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
+              g.kind_b, g.element_b, g.params_b);
+  const Distance_hierarchy& HA = m_model_a->hierarchy();
+  const Distance_hierarchy& HB = m_model_b->hierarchy();
+  const Overlap_test overlap =
+      known != nullptr ? *known : overlap_of(g, HA, X_WA, closed(0), HB, X_WB, closed(1));
+  if (overlap.kind == Overlap_kind::None) return false;
+  // Where the surfaces meet, the hulls' depth is the bodies' own when both are convex, or
+  // when each witness lies inside the other body (two cylinders side by side); not so for a
+  // nut on a bolt, whose hulls overlap by the bolt's length with the bolt's end outside the
+  // nut. There the trackers seeded at the common points find the local pair first.
+  const bool meet = overlap.kind == Overlap_kind::Surfaces_meet;
+  if (meet && !convex() && (!local_seeds_failed || !closed(0) || !closed(1))) return false;
+  if (!meet) {
+    // One inside the other: at least as deep as the gap between the surfaces (the answer
+    // should no depth be found), exactly so for a point, whose depth is its distance from the
+    // surface.
+    keep_solved(-g.distance, g.point_a, g.point_b, -g.normal, g.kind_a, g.element_a, g.params_a,
+                g.kind_b, g.element_b, g.params_b);
+    if (m_model_a->body().is_point || m_model_b->body().is_point) {
+      const double tol = std::max(m_options.global.absolute_tolerance,
+                                  m_options.global.relative_tolerance * g.distance);
+      if (!g.is_certified() || !(-g.distance > deeper + tol) || m_solved.pa < 0 ||
+          m_solved.pb < 0)
+        return false;
+      add_inside(m_solved.pa, m_solved.pb, m_solved.params, X_WA, X_WB);
+      return true;
+    }
+  }
+  // Otherwise the hulls' depth (as `extremal distance --signed` reports it). Against a
+  // tracked depth, only whether a pair is shallower than it matters: a coarse search, whose
+  // certified bound decides (the tracker's corrections converge the seed).
+  const bool against = deeper > -HUGE_VAL;
+  Signed_distance_request request = m_options.overlap;
+  if (against) request.relative_tolerance = std::max(request.relative_tolerance, 1e-3);
+  const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
+  if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
+  if (!((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
+    return false;  // a tracker holds it already
+  int pa = m_model_a->primitive_of(h.kind_a, h.element_a);
+  int pb = m_model_b->primitive_of(h.kind_b, h.element_b);
+  if (pa < 0 || pb < 0) return false;
+  Vec4 params = Vec4::Zero();
+  params_from_global(m_model_a->primitives()[pa], h.params_a, params.data());
+  params_from_global(m_model_b->primitives()[pb], h.params_b,
+                     params.data() + m_model_a->primitives()[pa].feature.dimension());
+  centre_depth_seed(pa, pb, X_WA, X_WB, h.normal, h.distance, params);
+  if (meet && !convex()) {
+    const Primitive& A = m_model_a->primitives()[pa];
+    const Primitive& B = m_model_b->primitives()[pb];
+    Feature_point fa, fb;
+    evaluate_feature(A.feature, X_WA, params.data(), fa, 0);
+    evaluate_feature(B.feature, X_WB, params.data() + A.feature.dimension(), fb, 0);
+    if (!inside_body(HB, X_WB, fa.p) || !inside_body(HA, X_WA, fb.p)) return false;
+  }
+  keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
+              h.kind_b, h.element_b, h.params_b);
+  add_inside(pa, pb, params, X_WA, X_WB);
+  return true;
+}
+
+bool Body_pair_tracker::closed(int side) {
+  signed char& c = side == 0 ? m_closed_a : m_closed_b;
+  if (c < 0) c = body_closedness((side == 0 ? m_model_a : m_model_b)->body()).closed ? 1 : 0;
+  return c == 1;
+}
+
+void Body_pair_tracker::add_inside(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
+                                   const Rigid_pose_3& X_WB) {
+  m_live[place(pa, pb, params, X_WA, X_WB)].through_contact = true;  // the depth's side
+  ++m_report.seeds;
+}
+
+bool Body_pair_tracker::convex() {
+  if (m_convex < 0)
+    m_convex = is_certified_convex(m_model_a->body()) && is_certified_convex(m_model_b->body());
+  return m_convex == 1;
+}
+
+double Body_pair_tracker::depth_tolerance(double depth) const {
+  return std::max(m_options.overlap.absolute_tolerance,
+                  m_options.overlap.relative_tolerance * std::abs(depth));
+}
+
+bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                   double best) {
+  // Only past the normal form's band around contact: there the tracked pair is the one the
+  // bodies met at. Deeper, it is a saddle of the distance that goes on existing after it
+  // stopped being the depth: a ball that passed the centre of a larger one still has its
+  // entry pair, deeper than the exit pair, and once out the other side the entry pair is
+  // still there, negative, with the bodies apart.
+  // Such a stale pair grows deeper as the bodies move on: the check runs again once the
+  // depth grew by a hundredth of the smaller body since the last one (a pair that stays as
+  // deep, a shaft turning in a bore, is checked once). Between checks a stale pair can be off
+  // by twice that; each check costs a solve and, for convex bodies, a coarse hull depth.
+  // Closed bodies (or points) only: an open sheet's inside is the side its normal points away
+  // from, and a pair behind it stays inside however far (a plane passed through another keeps
+  // its sign).
+  const Live* deepest = nullptr;
+  for (const Live& L : m_live)
+    if (L.alive && L.valid && L.result.distance == best) deepest = &L;
+  const bool solid_a = closed(0) || m_model_a->body().is_point;
+  const bool solid_b = closed(1) || m_model_b->body().is_point;
+  // Sizes: the smaller body's, or the other one's for a point.
+  const bool point = m_model_a->body().is_point || m_model_b->body().is_point;
+  const double da = box_diagonal(m_model_a->box()), db = box_diagonal(m_model_b->box());
+  const double size = point ? std::max(da, db) : std::min(da, db);
+  // (The normal form holds for the step that reached a depth in one stride: fast motion.)
+  if (!solid_a || !solid_b || deepest == nullptr || deepest->closed_form ||
+      (deepest->result.normal_form && -best <= 0.1 * size)) {
+    m_deep_checked = HUGE_VAL;
+    return false;
+  }
+  const double step = 1e-2 * size;
+  // A point inside a body is also checked as it moves: its depth is its distance from the
+  // surface, whose nearest face changes without the tracked one growing deeper (a point rising
+  // in a cylinder nears the top cap); that check is one point query.
+  const bool moved =
+      point && std::isfinite(m_deep_checked) &&
+      approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at, m_relative).closer > step;
+  if (!(best < m_deep_checked - step) && !moved) return false;
+  m_deep_checked = best;
+  m_deep_at = m_relative;
+  const Distance_result g = global_solve(X_WA, X_WB);
+  const Overlap_test overlap = overlap_of(g, m_model_a->hierarchy(), X_WA, closed(0),
+                                          m_model_b->hierarchy(), X_WB, closed(1));
+  // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
+  // the ones just placed (not stepped yet).
+  auto drop_inside = [&](double above) {
+    for (std::size_t k = 0; k < m_live.size(); ++k) {
+      const Live& L = m_live[k];
+      if (L.alive && L.stepped != -1 && L.result.distance < -m_options.contact_tolerance &&
+          L.result.distance < above)
+        kill(static_cast<int>(k));
+    }
+  };
+  if (overlap.kind == Overlap_kind::None) {
+    if (overlap.unknown || !g.is_certified() || !(g.lower_bound > 0.0)) return false;
+    drop_inside(HUGE_VAL);  // apart after all: the certified pair
+    seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
+    m_deep_checked = HUGE_VAL;
+    return true;
+  }
+  // Still overlapping. Where the hulls' depth is the bodies' (one inside the other, or both
+  // convex), trackers deeper than it go and its pair is tracked; otherwise the local pairs stay.
+  if (overlap.kind == Overlap_kind::Surfaces_meet && !convex()) return false;
+  if (!seed_overlap(g, X_WA, X_WB, false, best, &overlap)) return false;
+  m_deep_checked = m_solved.distance;
+  drop_inside(m_solved.distance - depth_tolerance(m_solved.distance));
+  return true;
+}
+
+}  // namespace extremal
