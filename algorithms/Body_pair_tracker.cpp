@@ -497,6 +497,21 @@ void Body_pair_tracker::step_live(int k) {
   if (L.result.distance < -m_options.contact_tolerance && !L.result.normal_form &&
       !is_converged(L, k_wandering_error))
     L.valid = false;
+  // Between solids a penetration pair's outward normals oppose each other. With them alike,
+  // the pair is no depth: a point of one surface inside the other body and its foot on the
+  // face it entered by (a ball that jumped deep into a box in one step), or two flush
+  // coplanar faces side by side, whose d lies in their plane and whose sign is rounding (as1's
+  // bolt heads beside their brackets read -0.475). Open sheets keep it: a plane passed
+  // through its copy is behind it.
+  if (L.valid && L.result.distance < -m_options.contact_tolerance && A.is_surface() &&
+      B.is_surface() && closed(0) && closed(1)) {
+    Feature_point fa, fb;
+    evaluate_feature(A.feature, *m_XA, L.result.params.data(), fa, 1);
+    evaluate_feature(B.feature, *m_XB, L.result.params.data() + 2, fb, 1);
+    const Vec3 na = A.feature.outward_sign() * fa.d[0].cross(fa.d[1]);
+    const Vec3 nb = B.feature.outward_sign() * fb.d[0].cross(fb.d[1]);
+    if (na.dot(nb) > 0.0) L.valid = false;
+  }
 }
 
 bool Body_pair_tracker::transition(int k) {
