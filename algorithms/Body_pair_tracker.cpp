@@ -510,7 +510,12 @@ void Body_pair_tracker::step_live(int k) {
     evaluate_feature(B.feature, *m_XB, L.result.params.data() + 2, fb, 1);
     const Vec3 na = A.feature.outward_sign() * fa.d[0].cross(fa.d[1]);
     const Vec3 nb = B.feature.outward_sign() * fb.d[0].cross(fb.d[1]);
-    if (na.dot(nb) > 0.0) L.valid = false;
+    // Only where both normals are defined (not at a pole, where the cross product is
+    // rounding), and alike beyond rounding.
+    const double la = na.norm(), lb = nb.norm();
+    const bool defined = la > 1e-8 * fa.d[0].norm() * fa.d[1].norm() &&
+                         lb > 1e-8 * fb.d[0].norm() * fb.d[1].norm();
+    if (defined && na.dot(nb) > 1e-6 * la * lb) L.valid = false;
   }
 }
 
