@@ -16,6 +16,7 @@ namespace extremal {
 
 using internal::approach_bound;
 using internal::box_diagonal;
+using internal::inflate;
 using internal::off_centre;
 using internal::params_from_global;
 
@@ -41,13 +42,10 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   auto faces_at = [tol](const Tracking_model& M, const Rigid_pose_3& X, const Vec3& w, int own,
                         std::vector<int>& out) {
     out.assign(1, own);
-    const Vec3 b = X.inverse().apply_point(w);
+    const Bbox_3 b = to_point(X.inverse().apply_point(w)).bbox();
     for (int p = 0; p < static_cast<int>(M.primitives().size()); ++p) {
       const Primitive& P = M.primitives()[p];
-      if (p == own || !P.is_surface()) continue;
-      bool in = true;
-      for (int k = 0; k < 3 && in; ++k) in = b[k] >= P.box.min(k) - tol && b[k] <= P.box.max(k) + tol;
-      if (in) out.push_back(p);
+      if (p != own && P.is_surface() && CGAL::do_overlap(b, inflate(P.box, tol))) out.push_back(p);
     }
   };
   std::vector<int> faces_a, faces_b;

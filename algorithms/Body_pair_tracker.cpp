@@ -42,14 +42,11 @@ using internal::key_b;
 using internal::pair_key;
 using internal::params_from_global;
 using internal::k_wandering_error;
+using internal::inflate;
 using internal::off_centre;
 
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
                                                       CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
-
-Bbox_3 inflate(const Bbox_3& b, double r) {
-  return Bbox_3(b.xmin() - r, b.ymin() - r, b.zmin() - r, b.xmax() + r, b.ymax() + r, b.zmax() + r);
-}
 
 bool same_pose(const Rigid_pose_3& x, const Rigid_pose_3& y) {
   return x.rotation() == y.rotation() && x.translation() == y.translation();
@@ -499,10 +496,10 @@ void Body_pair_tracker::step_live(int k) {
     L.valid = false;
   // Between solids a penetration pair's outward normals oppose each other. With them alike,
   // the pair is no depth: a point of one surface inside the other body and its foot on the
-  // face it entered by (a ball that jumped deep into a box in one step), or two flush
-  // coplanar faces side by side, whose d lies in their plane and whose sign is rounding (as1's
-  // bolt heads beside their brackets read -0.475). Open sheets keep it: a plane passed
-  // through its copy is behind it.
+  // face it entered by (a ball that jumped deep into a box in one step). Open sheets keep it:
+  // a plane passed through its copy is behind it. Normals perpendicular are no sign of
+  // either (as1's bolt shank against its hole's rim on the bracket's top face: -0.475, an
+  // interference), hence the margin.
   if (L.valid && L.result.distance < -m_options.contact_tolerance && A.is_surface() &&
       B.is_surface() && closed(0) && closed(1)) {
     Feature_point fa, fb;

@@ -923,9 +923,7 @@ Overlap_test overlap_of(const Distance_result& apart, const Distance_hierarchy& 
                     const Distance_hierarchy& outer, const Rigid_pose_3& X_out) {
     const Bbox_3 box = transformed(outer.box(), X_out);  // holds the outer body
     for (const Vec3& x : sample_points(inner, X_in)) {
-      bool in_box = true;
-      for (int k = 0; k < 3 && in_box; ++k) in_box = x[k] >= box.min(k) && x[k] <= box.max(k);
-      if (!in_box) continue;  // outside the box: winding number 0
+      if (!CGAL::do_overlap(to_point(x).bbox(), box)) continue;  // outside: winding number 0
       const Winding_number w = winding_number(outer, X_out, x, apart.lower_bound);
       out.winding_cells += w.cells;
       if (!w.determined) out.unknown = true;

@@ -30,6 +30,10 @@ constexpr double k_converged_error = 1e-6;
 // wandering outside the basin of one), where a lagging tracker stays orders of magnitude below.
 constexpr double k_wandering_error = 1e-2;
 
+inline Bbox_3 inflate(const Bbox_3& b, double r) {
+  return Bbox_3(b.xmin() - r, b.ymin() - r, b.zmin() - r, b.xmax() + r, b.ymax() + r, b.zmax() + r);
+}
+
 // How far parameters sit from the middle of their domain (0 at the centre, 1 at a corner).
 inline double off_centre(const Feature& f, const double* p) {
   double s = 0.0;
