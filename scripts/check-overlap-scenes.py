@@ -1,0 +1,34 @@
+#!/usr/bin/env python3
+"""Runs `extremal report` on the overlap scenes of bench/scenes (README there) and prints, per
+scene, the run time and the largest |distance - closed form| over all rows, with the row.
+Usage: scripts/check-overlap-scenes.py [EXTREMAL_BINARY]   (default build/cli/extremal)
+bench/RESULTS.md, "Bodies that overlap", quotes it for two builds."""
+import csv
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+exe = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "build", "cli", "extremal")
+closed_forms = [
+    ("shaft_in_bore.json", lambda t: -3.0),                            # radial way out
+    ("balls_start_deep.json", lambda t: math.hypot(1.5, 0.5 * t) - 2.0),  # |c| - 2
+    ("ball_through_ball.json", lambda t: abs(-2.0 + 40.0 * t) - 1.3),  # |c| - 1.3
+]
+with tempfile.TemporaryDirectory() as tmp:
+    out = os.path.join(tmp, "rows.csv")
+    for scene, exact in closed_forms:
+        start = time.time()
+        subprocess.run([exe, "report", os.path.join(root, "bench", "scenes", scene), "-o", out,
+                        "--quiet"], check=True)
+        seconds = time.time() - start
+        rows = list(csv.DictReader(open(out)))
+        errors = [abs(float(r["distance"]) - exact(float(r["t"]))) for r in rows]
+        k = max(range(len(rows)), key=lambda i: errors[i])
+        inside = sum(float(r["distance"]) < 0.0 for r in rows)
+        print("%-24s %6.2f s  max error %.3g (t = %s: %s, exact %.6g)  rows inside %d" %
+              (scene, seconds, errors[k], rows[k]["t"], rows[k]["distance"],
+               exact(float(rows[k]["t"])), inside))
