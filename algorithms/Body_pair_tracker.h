@@ -62,7 +62,9 @@ struct Pair_report {
   // where the surfaces meet, the hulls' depth where a body lies inside the other).
   bool solved = false;
   int trackers = 0;  // live feature-pair trackers
-  int audits = 0, reseeds = 0;  // global audits so far and the trackers they seeded
+  // Certified global solves so far (start, audits, re-seeds and check_deep's checks), and the
+  // trackers audits and re-seeds seeded.
+  int audits = 0, reseeds = 0;
   // Totals since the start: patch transitions (a tracker handed across an edge or side),
   // merges (trackers that reached the same pair), trackers seeded on candidate pairs (entering
   // in contact, found closer than the tracked minimum, or in contact when it began).
