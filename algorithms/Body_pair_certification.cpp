@@ -124,11 +124,17 @@ bool Body_pair_tracker::certifiable(int pa, int pb) const {
 }
 
 void Body_pair_tracker::mark_tracked() {
-  for (Candidate& c : m_candidates) c.tracked = false;
+  for (Candidate& c : m_candidates) {
+    c.tracked = false;
+    c.tracked_distance = HUGE_VAL;
+  }
   for (const Live& L : m_live) {
     if (!L.alive) continue;
     const int i = find_candidate(pair_key(L.pa, L.pb));
-    if (i >= 0) m_candidates[i].tracked = true;
+    if (i < 0) continue;
+    m_candidates[i].tracked = true;
+    if (L.valid)
+      m_candidates[i].tracked_distance = std::min(m_candidates[i].tracked_distance, L.result.distance);
   }
 }
 
@@ -149,15 +155,28 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
   mark_tracked();
   const double tol = std::max(m_options.seeding.absolute_tolerance,
                               m_options.seeding.relative_tolerance * best);
-  const double need = best - tol;  // a pair certified at or above this holds nothing closer
+  const double need_apart = best - tol;  // a pair certified at or above this holds nothing closer
   bool seeded = false;
   const Symmetry turning = m_VA != nullptr && m_VB != nullptr
                                ? turn_axis(*m_VA, X_WA, *m_VB, X_WB)
                                : Symmetry();
   for (Candidate& C : m_candidates) {
-    if (C.tracked) continue;
+    // (A pair whose trackers all left the bodies is handed over or re-seeded elsewhere.)
+    if (C.tracked && !(m_options.own_basin_gap > 0.0 && std::isfinite(C.tracked_distance)))
+      continue;
     const int pa = key_a(C.key), pb = key_b(C.key);
     if (!certifiable(pa, pb)) continue;
+    // A tracked pair is watched for another basin of its own: what must clear is its tracked
+    // distance less the gap (or the tracked minimum, if lower), and every cutoff stays below
+    // the tracked basin (half the gap), so the solves settle it rather than converge on it.
+    double need = need_apart;
+    double ceiling = HUGE_VAL;
+    if (C.tracked) {
+      const double gap = std::max(4.0 * tol, m_options.own_basin_gap * C.tracked_distance);
+      need = std::min(need_apart, C.tracked_distance - gap);
+      ceiling = C.tracked_distance - 0.5 * gap;
+    }
+    auto below_ceiling = [&](double cutoff) { return std::max(need + tol, std::min(cutoff, ceiling)); };
     const Primitive& A = m_model_a->primitives()[pa];
     const Primitive& B = m_model_b->primitives()[pb];
     ++m_report.vacated_checks;
@@ -220,7 +239,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     Distance_request request = m_options.seeding;
     request.keep_proofs = true;
     request.motion_axis = turning;
-    request.cutoff = need + slack;
+    request.cutoff = below_ceiling(need + slack);
     // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
     request.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
     // Crease ties. A face sharing a patch side with a face whose pair with the same other
@@ -271,11 +290,12 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
         // Cutoff and gradient reach alike (the motion either proof outlasts).
         const double crease_slack =
             step_motion >= cap ? 4.0 * tol : std::max(4.0 * tol, k_crease_fraction * cap);
-        first.cutoff = need + crease_slack;
+        first.cutoff = below_ceiling(need + crease_slack);
         first.carried_min_reach = crease_slack;
         ++m_report.vacated_crease_solves;
       } else {
-        first.cutoff = need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion));
+        first.cutoff =
+            below_ceiling(need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion)));
         first.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
       }
     }
@@ -313,7 +333,10 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
-    add_live(pa, pb, params);
+    if (C.tracked)
+      place(pa, pb, params, X_WA, X_WB);  // the pair's tracker moves to its closer basin
+    else
+      add_live(pa, pb, params);
     ++m_report.seeds;
     ++m_report.vacated_seeds;
     C.tracked = true;
@@ -360,10 +383,23 @@ bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& r
 double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
   if (C.bound_count == 0) return -HUGE_VAL;
   Motions m(C, m_relative);
+  // A pair's bound less how far the primitives can have come closer since its solve (as the
+  // carried bound decays) often clears `need` already: then it is not re-bounded. (A tracked
+  // pair's own check re-bounds only the few pairs about its tracked basin.)
+  const Bbox_3& box_a = m_model_a->primitives()[key_a(C.key)].box;
+  const Bbox_3& box_b = m_model_b->primitives()[key_b(C.key)].box;
+  double closer[k_kept_solves];
+  unsigned made = 0u;
   double lowest = HUGE_VAL;
   for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
     const int k = m_bounds[i].solve;
-    lowest = std::min(lowest, bound_after_motion(m_bounds[i].proof, m.b(k), m.length(k)));
+    if (!(made & (1u << k))) {
+      closer[k] = approach_bound(box_a, box_b, C.solves[k].relative, m_relative).closer;
+      made |= 1u << k;
+    }
+    double b = m_bounds[i].proof.lower - closer[k];
+    if (!(b >= need)) b = std::max(b, bound_after_motion(m_bounds[i].proof, m.b(k), m.length(k)));
+    lowest = std::min(lowest, b);
     if (lowest < need) break;
   }
   return lowest;

@@ -115,6 +115,12 @@ struct Body_pair_options {
   // Steps between audits by the certified global solver (0 = never): when the global minimum
   // has moved to another feature pair, a tracker is seeded there.
   int audit_every = 0;
+  // A tracked primitive pair is watched for another basin of its own (a rod moved across a
+  // ring leaves the ring's near side for its far side, both on one face pair): a basin that
+  // comes closer than the tracked one by more than this fraction of its distance (at least the
+  // seeding tolerance) gets the pair's tracker. Smaller costs deeper restricted solves near the
+  // tracked minimum, which the watch must clear without settling it; 0: not watched.
+  double own_basin_gap = 1e-3;
   // The certified solver's request on one candidate primitive pair (seeding a new pair, and
   // checking a pair whose tracker moved on for a closer basin): a start for the tracker, whose
   // corrections converge it, so a looser tolerance and a small node budget bound the cost of
@@ -305,6 +311,9 @@ class Body_pair_tracker {
     std::array<Solve_pose, k_kept_solves> solves;
     int solve_count = 0;
     bool tracked = false;  // scratch of mark_tracked: a live slot tracks the pair
+    // Scratch of mark_tracked: the least distance of the pair's live trackers whose witnesses
+    // lie on the bodies (infinity: none).
+    double tracked_distance = HUGE_VAL;
     bool contact_seeded = false;  // seed_in_contact gave it a tracker
   };
   std::vector<Candidate> m_candidates, m_next_candidates;

@@ -19,6 +19,7 @@ Body_pair_options pair_options_of(const io::Scene& scene) {
   o.tracker.integrator = scene.tracker.rk4 ? Integrator::Rk4 : Integrator::Euler;
   o.threshold = scene.threshold.value_or(0.0);
   o.audit_every = scene.tracker.audit_every;
+  o.own_basin_gap = scene.tracker.own_basin_gap;
   return o;
 }
 

@@ -471,12 +471,17 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
   if (root.contains("tracker")) {
     const json& t = root["tracker"];
     if (!t.is_object()) err.fail("tracker", "expected an object");
-    check_keys(t, "tracker", {"gain", "substeps", "audit_every", "integrator"}, err);
+    check_keys(t, "tracker", {"gain", "substeps", "audit_every", "own_basin_gap", "integrator"}, err);
     if (t.contains("gain")) scene.tracker.gain = positive(t["gain"], "tracker.gain", err);
     if (t.contains("substeps"))
       scene.tracker.substeps = integer(t["substeps"], "tracker.substeps", 1, err);
     if (t.contains("audit_every"))
       scene.tracker.audit_every = integer(t["audit_every"], "tracker.audit_every", 0, err);
+    if (t.contains("own_basin_gap")) {
+      const double g = number(t["own_basin_gap"], "tracker.own_basin_gap", err);
+      if (!(g >= 0.0 && g < 1.0)) err.fail("tracker.own_basin_gap", "must be >= 0 and < 1");
+      scene.tracker.own_basin_gap = g;
+    }
     if (t.contains("integrator")) {
       const std::string s = string(t["integrator"], "tracker.integrator", err);
       if (s != "euler" && s != "rk4") err.fail("tracker.integrator", "expected \"euler\" or \"rk4\"");

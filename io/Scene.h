@@ -30,6 +30,9 @@ struct Tracker_settings {
   int substeps = 1;
   bool rk4 = false;
   int audit_every = 0;  // steps between global audits; 0 = never
+  // A tracked pair's second basin is taken once closer by this fraction of the distance
+  // (Body_pair_options::own_basin_gap); 0 = not watched.
+  double own_basin_gap = 1e-3;
 };
 
 struct Scene {

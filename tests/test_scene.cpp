@@ -79,6 +79,13 @@ TEST(Scene, TwistMotionReproducesItsPoses) {
   EXPECT_NEAR((p.rotation() - expected).norm(), 0.0, 1e-12);
   EXPECT_EQ(m.twist_at(0.3).linear, Vec3(1, 2, 3));
   EXPECT_EQ(scene.pairs.size(), 1u);  // "all" by default
+  EXPECT_EQ(scene.tracker.own_basin_gap, 1e-3);  // the default
+  const auto watched = io::parse_scene(
+      with_bodies(std::string(k_sphere) + "," + R"({"name": "B", "shape": {"type": "point"}})",
+                  R"(, "tracker": {"audit_every": 5, "own_basin_gap": 0.01})"),
+      "scene.json");
+  EXPECT_EQ(watched.tracker.audit_every, 5);
+  EXPECT_EQ(watched.tracker.own_basin_gap, 0.01);
 }
 
 TEST(Scene, KeyframesInterpolateAndHoldOutside) {
@@ -141,6 +148,8 @@ TEST(Scene, ErrorsNameThePathAndTheReason) {
   expect_error(R"({"time": {"end": 1, "step": 0.1}})", "missing key 'bodies'");
   expect_error(with_bodies(k_sphere, R"(, "tracker": {"gain": 10, "substep": 2})"),
                "tracker.substep: unknown key");
+  expect_error(with_bodies(k_sphere, R"(, "tracker": {"own_basin_gap": 1.5})"),
+               "tracker.own_basin_gap: must be >= 0 and < 1");
   expect_error("{not json", "not valid JSON");
   expect_error(with_bodies(k_sphere, R"(, "units": "furlong")"), "units: unknown unit 'furlong'");
 }
