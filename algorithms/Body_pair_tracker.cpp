@@ -9,6 +9,7 @@
 
 #include "algorithms/Triangle_distance.h"
 #include "algorithms/internal/Body_pair_support.h"
+#include "kernel/Error.h"
 
 namespace extremal {
 
@@ -95,6 +96,8 @@ Body_pair_tracker::Body_pair_tracker(std::shared_ptr<const Tracking_model> a,
     : m_model_a(std::move(a)), m_model_b(std::move(b)), m_options(options),
       m_features_a(features_of(m_model_a->body())), m_features_b(features_of(m_model_b->body())),
       m_scratch(std::make_unique<Broad_scratch>()) {
+  EXTREMAL_PRECONDITION_MSG(options.own_basin_gap >= 0.0 && options.own_basin_gap < 1.0,
+                            "Body_pair_options::own_basin_gap must be >= 0 and < 1");
   m_live.reserve(64);
   m_free.reserve(64);
 }

@@ -440,11 +440,13 @@ TEST(BodyScenes, AuditsOrTheWatchMoveATrackerToALowerBasinOfItsOwnPair) {
   }
 }
 
-// A rod moved across a ring's hole: its minimum is on the ring's near side, which switches
-// from one side of the hole to the other as the rod passes the centre, within one face pair
-// (the torus's one face against the cylinder's side). Before the own-basin watch the tracker
-// stayed on the side it started on: 2.5 reported at the end against 0.5. The gap (1% of the
-// distance) is less than one step's change past the centre: every row is exact.
+// A rod moved across a ring's hole in the ring's plane of symmetry: its minimum is on the
+// ring's near side, which switches from one side of the hole to the other as the rod passes
+// the centre, within one face pair (the torus's one face against the cylinder's side). Past
+// the centre the side it started on is a saddle that the symmetry holds the tracker on (off
+// that plane the tracker slides off it): before the own-basin watch 2.5 was reported at the
+// end against 0.5. The gap (0.1% of the distance) is less than one step's change past the
+// centre: every row is exact.
 TEST(BodyScenes, ARodMovedAcrossARingFollowsTheRingsNearSide) {
   const Body ring = make_torus_body(3.0, 1.0), rod = make_cylinder_body(0.5, 10.0);
   Body_pair_tracker tracker(ring, rod);
