@@ -127,14 +127,19 @@ void Body_pair_tracker::mark_tracked() {
   for (Candidate& c : m_candidates) {
     c.tracked = false;
     c.tracked_distance = HUGE_VAL;
+    c.tracked_slot = -1;
   }
-  for (const Live& L : m_live) {
+  for (std::size_t k = 0; k < m_live.size(); ++k) {
+    const Live& L = m_live[k];
     if (!L.alive) continue;
     const int i = find_candidate(pair_key(L.pa, L.pb));
     if (i < 0) continue;
-    m_candidates[i].tracked = true;
-    if (L.valid)
-      m_candidates[i].tracked_distance = std::min(m_candidates[i].tracked_distance, L.result.distance);
+    Candidate& C = m_candidates[i];
+    C.tracked = true;
+    if (L.valid && L.result.distance < C.tracked_distance) {
+      C.tracked_distance = L.result.distance;
+      C.tracked_slot = static_cast<int>(k);
+    }
   }
 }
 
@@ -242,6 +247,14 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
     request.keep_proofs = true;
+    // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
+    // about the tracker's point, not by hull bounds (Distance_request::stationary).
+    if (C.tracked && C.tracked_slot >= 0 && !m_live[C.tracked_slot].closed_form &&
+        A.kind != Primitive_kind::Triangle && B.kind != Primitive_kind::Triangle) {
+      request.has_stationary = true;
+      const Vec4& q = m_live[C.tracked_slot].result.params;
+      for (int k = 0; k < 4; ++k) request.stationary[k] = q[k];
+    }
     request.motion_axis = turning;
     request.cutoff = below_ceiling(need + slack);
     // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.

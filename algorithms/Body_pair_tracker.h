@@ -314,6 +314,7 @@ class Body_pair_tracker {
     // Scratch of mark_tracked: the least distance of the pair's live trackers whose witnesses
     // lie on the bodies (infinity: none).
     double tracked_distance = HUGE_VAL;
+    int tracked_slot = -1;  // the live slot at that distance
     bool contact_seeded = false;  // seed_in_contact gave it a tracker
   };
   std::vector<Candidate> m_candidates, m_next_candidates;

@@ -79,6 +79,7 @@ struct Known_solution {
   double distance = HUGE_VAL;
   double tried = HUGE_VAL;  // size of the last region tried around it (see try_certify)
   bool certified = false;
+  bool given = false;  // Distance_request::stationary: certified whatever its distance
 };
 
 // A box of parameters [A's..., B's...] of an element pair over which |f_A - f_B|^2 is proven
@@ -1027,7 +1028,7 @@ bool Solver::certify_region(internal::Known_solution& sol, const double* rho) {
 void Solver::try_certify(const Live_node& a, const Live_node& b) {
   for (internal::Known_solution& s : m_scratch.solutions) {
     if (s.certified || s.ea != a.element || s.eb != b.element) continue;
-    if (s.distance > m_best.distance + 1e-6 * (1.0 + m_best.distance)) continue;
+    if (!s.given && s.distance > m_best.distance + 1e-6 * (1.0 + m_best.distance)) continue;
     bool inside = true;
     for (int k = 0; k < a.dim; ++k) inside = inside && s.params[k] >= a.lo[k] && s.params[k] <= a.hi[k];
     for (int k = 0; k < b.dim; ++k)
@@ -1350,6 +1351,12 @@ Distance_result Solver::run() {
 
   Distance_result result;
   if (m_req.cutoff < HUGE_VAL && m_req.cutoff > m_resolution) m_best.distance = m_req.cutoff;  // no witness yet (ea = -1)
+  if (m_req.has_stationary && m_only[0] >= 0 && m_only[1] >= 0) {
+    internal::Known_solution s{m_only[0], m_only[1], Vec4::Zero()};
+    for (int k = 0; k < 4; ++k) s.params[k] = m_req.stationary[k];
+    s.given = true;
+    m_scratch.solutions.push_back(s);
+  }
   auto& heap = m_scratch.heap;
   double dropped = HUGE_VAL;  // smallest bound among pruned and settled pairs
   if (m_starts != nullptr) {
@@ -1431,7 +1438,8 @@ Distance_result Solver::run() {
       if (m_best.distance < before) polish(a, b);
       // (While proving a cutoff, convexity bounds around a witness above the floor would
       // settle nothing: the pairs there are set aside or split until they clear the cutoff.)
-      if (m_req.newton_polish && !m_scratch.solutions.empty() && !proving()) try_certify(a, b);
+      if (m_req.newton_polish && !m_scratch.solutions.empty() && (!proving() || m_req.has_stationary))
+        try_certify(a, b);
       // (A pair left here for a meeting keeps its bound: the kept proofs cover the domains.)
       if (top.lower <= m_resolution && m_best.distance > m_resolution &&
           m_intersection_attempts < 64 && (a.depth + b.depth) % 3 == 0) {

@@ -97,6 +97,14 @@ struct Distance_request {
   // carried side). A witness below the floor brings the usual pruning back (the closer basin is
   // found). -infinity: the usual pruning.
   double cutoff_floor = -HUGE_VAL;
+  // Restricted queries only: a stationary point of the two elements' distance the caller knows
+  // (a converged tracker's parameters, A's then B's, as Distance_result::params_a/_b). A convex
+  // region about it is certified as the pairs that hold it are split, even while proving a
+  // cutoff below it: the region's bound (the distance there, less the point's residual)
+  // settles those pairs, where hull bounds would need sub-patches as small as the square root
+  // of the cutoff's distance below it (Body_pair_tracker's watch of a tracked pair).
+  bool has_stationary = false;
+  std::array<double, 4> stationary{{0.0, 0.0, 0.0, 0.0}};
   // Keep the proofs behind the result in the workspace (Distance_workspace::gradient_proofs,
   // bound_proofs), for a caller that checks them again after motion instead of solving again.
   bool keep_proofs = false;

@@ -199,6 +199,45 @@ double sphere_torus_distance(const Vec3& p, double R, double r, double rs) {
   return std::hypot(rho - R, p.z()) - r - rs;
 }
 
+// A restricted query proving a cutoff just below a known minimum (the own-basin watch of
+// Body_pair_tracker) settles the minimum's neighbourhood by a convexity certificate about the
+// stationary point it is given, instead of hull bounds down to sub-patches of the square root
+// of the gap: the same certified bound with fewer nodes, and never above the true minimum.
+TEST(GlobalDistance, AStationaryPointSettlesItsNeighbourhoodBelowACutoff) {
+  const Body ring = make_torus_body(3.0, 1.0), rod = make_cylinder_body(0.5, 10.0);
+  const Distance_hierarchy ha(ring), hb(rod);
+  const Rigid_pose_3 X_B(Mat3::Identity(), Vec3(-1.0, 0.3, -5.0));
+  // Exact: 2 - |(-1, 0.3)| - 0.5 from the ring's inner circle to the rod's axis.
+  const double exact = 2.0 - std::hypot(1.0, 0.3) - 0.5;
+  Distance_request r;
+  const Distance_result g = extremal_distance(ha, Rigid_pose_3(), hb, X_B, r);
+  ASSERT_TRUE(g.is_certified());
+  ASSERT_NEAR(g.distance, exact, 1e-9);
+  const int ea = ha.element_of(g.kind_a, g.element_a), eb = hb.element_of(g.kind_b, g.element_b);
+  Distance_workspace ws;
+  for (const double gap : {1e-6, 1e-9}) {
+    long nodes[2] = {0, 0};
+    for (const bool given : {false, true}) {
+      Distance_request q;
+      q.max_nodes = 20000;
+      q.keep_proofs = true;
+      q.cutoff = g.distance - 0.5 * gap;
+      q.cutoff_floor = g.distance - gap;
+      q.has_stationary = given;
+      q.stationary = {g.params_a[0], g.params_a[1], g.params_b[0], g.params_b[1]};
+      const Distance_result w = extremal_distance_between(ha, Rigid_pose_3(), ea, hb, X_B, eb, q, ws);
+      ASSERT_TRUE(w.is_certified()) << gap << " " << given;
+      EXPECT_EQ(w.element_a, -1) << "nothing below the cutoff";
+      EXPECT_GE(w.uncarried_lower_bound, q.cutoff - 2e-9) << gap << " " << given;
+      EXPECT_LE(w.uncarried_lower_bound, exact + 1e-12) << gap << " " << given;
+      nodes[given] = w.nodes_created;
+    }
+    std::printf("[ watch    ] gap %g: %ld nodes by hull bounds, %ld with the stationary point\n", gap,
+                nodes[0], nodes[1]);
+    EXPECT_LT(nodes[1], nodes[0]);
+  }
+}
+
 // Knot lines a face may fold along (Distance_hierarchy::reaches_kink): a rational circle's
 // double knots join its arcs without a corner and are not listed; a degree-1 ridge is.
 TEST(GlobalDistance, FoldsInsideAFaceAreTheCornersOnly) {
