@@ -289,8 +289,10 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       m_report.vacated_nodes += result.nodes_created;
       return result;
     };
-    unsigned carried_a = carried_sides(0, pa, pb, tol);
-    unsigned carried_b = carried_sides(1, pb, pa, tol);
+    // (Not for a tracked pair's watch: two tracked pairs on one crease would each leave the
+    // shared side to the other, and a closer point on it to neither.)
+    unsigned carried_a = C.tracked ? 0u : carried_sides(0, pa, pb, tol);
+    unsigned carried_b = C.tracked ? 0u : carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;
     // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
     // edge) would likewise be solved to its witness there every time: it is proved against a

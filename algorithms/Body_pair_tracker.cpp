@@ -396,12 +396,18 @@ bool Body_pair_tracker::seed_from(const Distance_result& g, const Rigid_pose_3& 
 
 int Body_pair_tracker::place(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
                              const Rigid_pose_3& X_WB) {
+  // Another basin of a tracked pair: its tracker moves there, one whose witnesses left the
+  // bodies first.
+  int moved = -1;
   for (std::size_t k = 0; k < m_live.size(); ++k)
-    if (m_live[k].alive && m_live[k].pa == pa && m_live[k].pb == pb && !m_live[k].closed_form) {
-      m_live[k].tracker.reset(params);  // another basin of the same pair
-      m_live[k].stepped = -1;
-      return static_cast<int>(k);
-    }
+    if (m_live[k].alive && m_live[k].pa == pa && m_live[k].pb == pb && !m_live[k].closed_form &&
+        (moved < 0 || (m_live[moved].valid && !m_live[k].valid)))
+      moved = static_cast<int>(k);
+  if (moved >= 0) {
+    m_live[moved].tracker.reset(params);
+    m_live[moved].stepped = -1;
+    return moved;
+  }
   const int slot = add_live(pa, pb, params);
   const std::uint64_t key = pair_key(pa, pb);
   if (find_candidate(key) < 0) {
