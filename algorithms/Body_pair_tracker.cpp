@@ -617,7 +617,16 @@ bool Body_pair_tracker::transition(int k) {
         double g[2], scale[2];
         surface_descent(F.feature, X, cq, other, g, scale);
         const double inward = g[0] * nrm[0] + g[1] * nrm[1];
-        if (inward > 1e-10 * std::max(scale[0], scale[1])) {
+        // Only onto a face that starts no farther than the edge: a B-rep edge lies on its faces
+        // only up to the file's tolerance (screw.step: 1.8e-4 off at a ball 1 mm away), and a
+        // face that starts above it may settle above it, where the edge's pair is lower. (A
+        // face pair that does come closer is found as any other, by check_vacated.)
+        Surface_point fp;
+        S.evaluate(cq[0], cq[1], fp, 0);
+        const double from_face = (X.apply_point(fp.p) - other).norm();
+        const double slack = std::max(m_options.seeding.absolute_tolerance,
+                                      m_options.seeding.relative_tolerance * r.distance);
+        if (inward > 1e-10 * std::max(scale[0], scale[1]) && from_face <= r.distance + slack) {
           np = use.face;
           nq[0] = cq[0];
           nq[1] = cq[1];
