@@ -352,10 +352,9 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
-    if (C.tracked)
-      place(pa, pb, params, X_WA, X_WB);  // the pair's tracker moves to its closer basin
-    else
-      add_live(pa, pb, params);
+    // (A tracked pair's tracker moves to its closer basin.)
+    const int slot = C.tracked ? place(pa, pb, params, X_WA, X_WB) : add_live(pa, pb, params);
+    m_live[slot].seeded_apart = true;
     ++m_report.seeds;
     ++m_report.vacated_seeds;
     C.tracked = true;

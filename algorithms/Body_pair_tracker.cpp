@@ -134,6 +134,8 @@ int Body_pair_tracker::add_live(int pa, int pb, const Vec4& params) {
   L.valid = false;
   L.stepped = -1;
   L.through_contact = false;
+  L.seeded_apart = false;
+  L.behind_sheet = false;
   L.closed_form = closed_form_pair(A, B);
   if (!L.closed_form) L.tracker = Extremal_tracker(A.feature, B.feature, params, m_options.tracker);
   return k;
@@ -390,7 +392,7 @@ bool Body_pair_tracker::seed_from(const Distance_result& g, const Rigid_pose_3& 
   params_from_global(A, g.params_a, params.data());
   params_from_global(m_model_b->primitives()[pb], g.params_b, params.data() + A.feature.dimension());
   prefer_central(pa, pb, X_WA, X_WB, params);
-  place(pa, pb, params, X_WA, X_WB);
+  m_live[place(pa, pb, params, X_WA, X_WB)].seeded_apart = g.distance > m_options.contact_tolerance;
   return true;
 }
 
@@ -406,6 +408,7 @@ int Body_pair_tracker::place(int pa, int pb, const Vec4& params, const Rigid_pos
   if (moved >= 0) {
     m_live[moved].tracker.reset(params);
     m_live[moved].stepped = -1;
+    m_live[moved].seeded_apart = m_live[moved].behind_sheet = false;
     return moved;
   }
   const int slot = add_live(pa, pb, params);
@@ -446,6 +449,7 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
 
 void Body_pair_tracker::step_live(int k) {
   Live& L = m_live[k];
+  const bool first = L.stepped == -1;
   L.stepped = m_steps;
   const Tracking_model& MA = *m_model_a;
   const Tracking_model& MB = *m_model_b;
@@ -494,7 +498,16 @@ void Body_pair_tracker::step_live(int k) {
   // A penetration depth counts only for a pair that went inside through contact (the normal
   // form's band around it): a face turned away from the other body (the far side of a torus
   // seen from its hole) also has d against its outward normal, with the bodies apart.
-  if (L.result.normal_form) L.through_contact = true;
+  // A tracker seeded apart whose first step reads it behind an open sheet (the sheet's normal
+  // points away from the other body: an ellipsoid under a plane) did not come through contact:
+  // an open sheet has no inside, and the solver's answer is reported instead.
+  // It stays so until it reads the pair in front.
+  if (L.result.distance > 0.0)
+    L.behind_sheet = false;
+  else if (first && L.seeded_apart && L.result.distance < -m_options.contact_tolerance &&
+           (!closed(0) || !closed(1)))
+    L.behind_sheet = true;
+  if (L.result.normal_form && !L.behind_sheet) L.through_contact = true;
   else if (L.result.distance > 0.0) L.through_contact = false;
   if (L.result.distance < -m_options.contact_tolerance && !L.through_contact) L.valid = false;
   // Deep inside (past the normal form's band), Newton's basin about a penetration pair can be

@@ -188,6 +188,10 @@ class Body_pair_tracker {
     bool valid = false;  // the witnesses lie on the bodies
     long stepped = -1;   // the step it was last stepped in
     bool through_contact = false;  // it reached its side of contact through the contact band
+    // Seeded from a solve that found the bodies apart; and it has read the pair behind an open
+    // sheet since its first step, never in front (see step_live).
+    bool seeded_apart = false;
+    bool behind_sheet = false;
     Extremal_tracker tracker{Feature::point(Vec3::Zero()), Feature::point(Vec3::Zero()), Vec4::Zero()};
     Track_result result;
   };

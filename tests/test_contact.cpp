@@ -144,6 +144,36 @@ TEST(Contact, EllipsoidSinksIntoPlaneAndRisesOut) {
   EXPECT_GT(s.max_distance, 0.5);
 }
 
+// An open sheet has no inside: an ellipsoid under a plane (behind its normal), tilted so that
+// its flat side faces it 0.05 to 0.09 away, never crosses it and is apart at every step. Its
+// first tracker read -0.09 `penetrating` (the plane's normal says "behind", and the normal
+// form's band took that for a passage through contact); a ball there read positive. Now a
+// tracker seeded apart that reads the pair behind a sheet from its first step is no depth, and
+// the solver's answer is reported.
+TEST(Contact, AnEllipsoidUnderAPlaneIsApart) {
+  const Body plane = make_plane_body(40.0, 40.0);
+  const Vec3 axes(1.5, 1.0, 0.5);
+  const Body ell = make_ellipsoid_body(axes.x(), axes.y(), axes.z());
+  const Vec3 spin(0.0, 0.1, 0.0);
+  const Mat3 tilt = Eigen::AngleAxisd(1.2, Vec3::UnitY()).toRotationMatrix();
+  auto motion = [&](double t) {
+    const Rigid_pose_3 rot = advance(Rigid_pose_3(tilt, Vec3::Zero()), twist(Vec3::Zero(), spin), t);
+    return Motion_sample{Rigid_pose_3(rot.rotation(), Vec3(-1.2 + 0.3 * t, 0.5, -1.5)),
+                         twist(Vec3(0.3, 0.0, 0.0), spin)};
+  };
+  // The plane is z = 0: the gap is minus the ellipsoid's top.
+  auto exact = [&](double t) {
+    const Rigid_pose_3 X = motion(t).pose;
+    const Mat3 P = X.rotation() * axes.cwiseAbs2().asDiagonal() * X.rotation().transpose();
+    return -(X.translation().z() + std::sqrt(P(2, 2)));
+  };
+  const Case_stats s = run_case("ellipsoid under a plane", plane, ell, motion, exact, 1.0);
+  EXPECT_LE(s.max_error, 1e-9);
+  EXPECT_EQ(s.nan_count, 0);
+  EXPECT_EQ(s.penetrating_steps, 0);
+  EXPECT_GT(s.min_distance, 0.04);
+}
+
 TEST(Contact, ExtremalPointTravelsOverThePoles) {
   // Rotating about x turns the ellipsoid's z-poles (collapsed edges of its parametrisation)
   // through the bottom: the lowest point passes over each pole.
