@@ -251,9 +251,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // about the tracker's point, not by hull bounds (Distance_request::stationary).
     if (C.tracked && C.tracked_slot >= 0 && !m_live[C.tracked_slot].closed_form &&
         A.kind != Primitive_kind::Triangle && B.kind != Primitive_kind::Triangle) {
-      request.has_stationary = true;
       const Vec4& q = m_live[C.tracked_slot].result.params;
-      for (int k = 0; k < 4; ++k) request.stationary[k] = q[k];
+      request.stationary = std::array<double, 4>{{q[0], q[1], q[2], q[3]}};
     }
     request.motion_axis = turning;
     request.cutoff = below_ceiling(need + slack);

@@ -1351,9 +1351,9 @@ Distance_result Solver::run() {
 
   Distance_result result;
   if (m_req.cutoff < HUGE_VAL && m_req.cutoff > m_resolution) m_best.distance = m_req.cutoff;  // no witness yet (ea = -1)
-  if (m_req.has_stationary && m_only[0] >= 0 && m_only[1] >= 0) {
+  if (m_req.stationary && m_only[0] >= 0 && m_only[1] >= 0) {
     internal::Known_solution s{m_only[0], m_only[1], Vec4::Zero()};
-    for (int k = 0; k < 4; ++k) s.params[k] = m_req.stationary[k];
+    for (int k = 0; k < 4; ++k) s.params[k] = (*m_req.stationary)[k];
     s.given = true;
     m_scratch.solutions.push_back(s);
   }
@@ -1438,7 +1438,7 @@ Distance_result Solver::run() {
       if (m_best.distance < before) polish(a, b);
       // (While proving a cutoff, convexity bounds around a witness above the floor would
       // settle nothing: the pairs there are set aside or split until they clear the cutoff.)
-      if (m_req.newton_polish && !m_scratch.solutions.empty() && (!proving() || m_req.has_stationary))
+      if (m_req.newton_polish && !m_scratch.solutions.empty() && (!proving() || m_req.stationary))
         try_certify(a, b);
       // (A pair left here for a meeting keeps its bound: the kept proofs cover the domains.)
       if (top.lower <= m_resolution && m_best.distance > m_resolution &&

@@ -47,6 +47,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -103,8 +104,7 @@ struct Distance_request {
   // cutoff below it: the region's bound (the distance there, less the point's residual)
   // settles those pairs, where hull bounds would need sub-patches as small as the square root
   // of the cutoff's distance below it (Body_pair_tracker's watch of a tracked pair).
-  bool has_stationary = false;
-  std::array<double, 4> stationary{{0.0, 0.0, 0.0, 0.0}};
+  std::optional<std::array<double, 4>> stationary;
   // Keep the proofs behind the result in the workspace (Distance_workspace::gradient_proofs,
   // bound_proofs), for a caller that checks them again after motion instead of solving again.
   bool keep_proofs = false;

@@ -223,8 +223,7 @@ TEST(GlobalDistance, AStationaryPointSettlesItsNeighbourhoodBelowACutoff) {
       q.keep_proofs = true;
       q.cutoff = g.distance - 0.5 * gap;
       q.cutoff_floor = g.distance - gap;
-      q.has_stationary = given;
-      q.stationary = {g.params_a[0], g.params_a[1], g.params_b[0], g.params_b[1]};
+      if (given) q.stationary = std::array<double, 4>{{g.params_a[0], g.params_a[1], g.params_b[0], g.params_b[1]}};
       const Distance_result w = extremal_distance_between(ha, Rigid_pose_3(), ea, hb, X_B, eb, q, ws);
       ASSERT_TRUE(w.is_certified()) << gap << " " << given;
       EXPECT_EQ(w.element_a, -1) << "nothing below the cutoff";
