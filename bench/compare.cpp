@@ -19,8 +19,10 @@
 // Prints one Markdown table per scenario with the speed-up over each peer, the targets, and
 // writes bench/results/compare_<scenario>.svg (log-log time against error).
 //
-// Usage: compare [--quick] [--trackers-only] [--rate HZ] [--out DIR] [--data DIR] [a] [b] [c]
-// (--rate: only the tracker rows at that rate, for profiling one rate under callgrind.)
+// Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--out DIR]
+//                [--data DIR] [a] [b] [c]
+// (--rate: only the tracker rows at that rate, for profiling one rate under callgrind;
+// --own-basin-gap: Body_pair_options::own_basin_gap of the body-pair rows.)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -233,6 +235,7 @@ struct Tracker_config {
   double kdt = 1.0;  // K dt
   int corrections = 0;
   int audit_every = 0;
+  double own_basin_gap = Body_pair_options{}.own_basin_gap;  // body pairs only
 };
 
 // Our tracker over the whole motion at `rate`, started on the certified pair at t = 0.
@@ -244,6 +247,11 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
                 c.corrections ? ", corrections" : "");
   row.setting = buf;
   if (c.audit_every) row.setting += ", audit every " + std::to_string(c.audit_every);
+  if (!s.single_patch && c.own_basin_gap != Body_pair_options{}.own_basin_gap) {
+    char gap[64];
+    std::snprintf(gap, sizeof gap, ", own-basin gap %g", c.own_basin_gap);
+    row.setting += gap;
+  }
   std::snprintf(buf, sizeof buf, "tracker K dt = %g%s%s", c.kdt, c.corrections ? " + corr." : "",
                 c.audit_every ? " + audits" : "");
   row.family = buf;
@@ -291,6 +299,7 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
     Body_pair_options options_b;
     options_b.tracker = options;
     options_b.audit_every = c.audit_every;
+    options_b.own_basin_gap = c.own_basin_gap;
     std::vector<double> starts;
     for (int run = 0; run < runs; ++run) {
       Scene_stepper stepper({{&s.a, &s.motion_a}, {&s.b, &s.motion_b}}, {{0, 1}}, options_b);
@@ -691,7 +700,7 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
 }
 
 void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
-                  const std::string& out_dir) {
+                  double own_basin_gap, const std::string& out_dir) {
   Reference_cache ref(s);
   std::vector<Row> rows;
   const auto t_start = Clock::now();
@@ -706,8 +715,9 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
     for (double rate : rates) configs.push_back({rate, 1.0, 10, 0});
     for (double rate : rates) configs.push_back({rate, 1.0, 10, static_cast<int>(rate / 10)});
   }
-  for (const Tracker_config& c : configs) {
+  for (Tracker_config& c : configs) {
     if (only_rate > 0.0 && c.rate != only_rate) continue;
+    c.own_basin_gap = own_basin_gap;
     rows.push_back(run_tracker(s, ref, c));
     std::fprintf(stderr, "(%s) %s %s: %.0f s\n", s.key.c_str(), rows.back().method.c_str(),
                  rows.back().setting.c_str(), micros_since(t_start) * 1e-6);
@@ -741,6 +751,7 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
 int main(int argc, char** argv) {
   bool quick = false, trackers_only = false;
   double only_rate = 0.0;
+  double own_basin_gap = Body_pair_options{}.own_basin_gap;
   std::string out_dir = "bench/results";
   std::string data = EXTREMAL_SHARED_DATA;
   std::vector<std::string> only;
@@ -751,6 +762,8 @@ int main(int argc, char** argv) {
       trackers_only = true;
     else if (!std::strcmp(argv[i], "--rate") && i + 1 < argc)
       only_rate = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--own-basin-gap") && i + 1 < argc)
+      own_basin_gap = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
       out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
@@ -761,8 +774,8 @@ int main(int argc, char** argv) {
       const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
       if (!help) std::fprintf(stderr, "compare: unknown argument '%s'\n", argv[i]);
       std::fprintf(help ? stdout : stderr,
-                   "usage: compare [--quick] [--trackers-only] [--rate HZ] [--out DIR] [--data DIR] "
-                   "[a] [b] [c]\n");
+                   "usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] "
+                   "[--out DIR] [--data DIR] [a] [b] [c]\n");
       return help ? 0 : 2;
     }
   }
@@ -774,16 +787,16 @@ int main(int argc, char** argv) {
   try {
     if (wanted("a")) {
       Scenario a = seed_ellipsoids(quick);
-      run_scenario(a, quick, trackers_only, only_rate, out_dir);
+      run_scenario(a, quick, trackers_only, only_rate, own_basin_gap, out_dir);
     }
     if (wanted("b")) {
       Scenario b = crate_and_ellipsoid(quick);
-      run_scenario(b, quick, trackers_only, only_rate, out_dir);
+      run_scenario(b, quick, trackers_only, only_rate, own_basin_gap, out_dir);
     }
     if (wanted("c")) {
       bool ok = false;
       Scenario c = step_parts(quick, data, ok);
-      if (ok) run_scenario(c, quick, trackers_only, only_rate, out_dir);
+      if (ok) run_scenario(c, quick, trackers_only, only_rate, own_basin_gap, out_dir);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "compare: %s\n", e.what());

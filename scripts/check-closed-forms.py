@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Runs `extremal report` on the overlap scenes of bench/scenes (README there) and prints, per
-scene, the run time and the largest |distance - closed form| over all rows, with the row.
-Usage: scripts/check-overlap-scenes.py [EXTREMAL_BINARY]   (default build/cli/extremal)
-bench/RESULTS.md, "Bodies that overlap", quotes it for two builds."""
+"""Runs `extremal report` on the scenes of bench/scenes that have a closed form (README there)
+and prints, per scene, the run time and the largest |distance - closed form| over all rows,
+with the row. Usage: scripts/check-closed-forms.py [EXTREMAL_BINARY] (default
+build/cli/extremal). bench/RESULTS.md quotes it ("Bodies that overlap", "The own-basin
+watch")."""
 import csv
 import math
 import os
@@ -17,6 +18,12 @@ closed_forms = [
     ("shaft_in_bore.json", lambda t: -3.0),                            # radial way out
     ("balls_start_deep.json", lambda t: math.hypot(1.5, 0.5 * t) - 2.0),  # |c| - 2
     ("ball_through_ball.json", lambda t: abs(-2.0 + 40.0 * t) - 1.3),  # |c| - 1.3
+    # The ring's inner circle (radius 2) to the rod's axis, less the rod's radius.
+    ("rod_across_ring.json", lambda t: 2.0 - abs(-1.0 + t) - 0.5),
+    # The plane z = 0 to the tilted ellipsoid's top, c_z + sqrt(a^2 sin^2 + c^2 cos^2).
+    ("ellipsoid_under_plane.json",
+     lambda t: 1.5 - math.sqrt(2.25 * math.sin(1.2) ** 2 + 0.25 * math.cos(1.2) ** 2)),
+    ("balls_spinning_near_contact.json", lambda t: 0.001),
 ]
 with tempfile.TemporaryDirectory() as tmp:
     out = os.path.join(tmp, "rows.csv")
@@ -29,6 +36,6 @@ with tempfile.TemporaryDirectory() as tmp:
         errors = [abs(float(r["distance"]) - exact(float(r["t"]))) for r in rows]
         k = max(range(len(rows)), key=lambda i: errors[i])
         inside = sum(float(r["distance"]) < 0.0 for r in rows)
-        print("%-24s %6.2f s  max error %.3g (t = %s: %s, exact %.6g)  rows inside %d" %
+        print("%-34s %6.2f s  max error %.3g (t = %s: %s, exact %.6g)  rows inside %d" %
               (scene, seconds, errors[k], rows[k]["t"], rows[k]["distance"],
                exact(float(rows[k]["t"])), inside))
