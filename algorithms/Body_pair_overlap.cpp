@@ -177,13 +177,16 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
   if (!((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
     return false;  // a tracker holds it already
-  int pa = m_model_a->primitive_of(h.kind_a, h.element_a);
-  int pb = m_model_b->primitive_of(h.kind_b, h.element_b);
-  if (pa < 0 || pb < 0) return false;
+  int pa = -1, pb = -1;
   Vec4 params = Vec4::Zero();
-  params_from_global(m_model_a->primitives()[pa], h.params_a, params.data());
-  params_from_global(m_model_b->primitives()[pb], h.params_b,
-                     params.data() + m_model_a->primitives()[pa].feature.dimension());
+  if (!depth_pair(h, X_WA, X_WB, pa, pb, params)) {
+    pa = m_model_a->primitive_of(h.kind_a, h.element_a);
+    pb = m_model_b->primitive_of(h.kind_b, h.element_b);
+    if (pa < 0 || pb < 0) return false;
+    params_from_global(m_model_a->primitives()[pa], h.params_a, params.data());
+    params_from_global(m_model_b->primitives()[pb], h.params_b,
+                       params.data() + m_model_a->primitives()[pa].feature.dimension());
+  }
   centre_depth_seed(pa, pb, X_WA, X_WB, h.normal, h.distance, params);
   if (meet && !convex()) {
     const Primitive& A = m_model_a->primitives()[pa];
@@ -191,11 +194,47 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     Feature_point fa, fb;
     evaluate_feature(A.feature, X_WA, params.data(), fa, 0);
     evaluate_feature(B.feature, X_WB, params.data() + A.feature.dimension(), fb, 0);
-    if (!inside_body(HB, X_WB, fa.p) || !inside_body(HA, X_WA, fb.p)) return false;
+    // Against a tracked depth (deeper than the hulls', which bound the bodies' translation
+    // distance: a stale pair), one witness inside the other body makes the pair one of the
+    // bodies' own (two crossing rods: the thinner rod's witness only). Otherwise both must be.
+    const bool a_in_b = inside_body(HB, X_WB, fa.p);
+    const bool b_in_a = inside_body(HA, X_WA, fb.p);
+    if (against ? !(a_in_b || b_in_a) : !(a_in_b && b_in_a)) return false;
   }
   keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
               h.kind_b, h.element_b, h.params_b);
   add_inside(pa, pb, params, X_WA, X_WB);
+  return true;
+}
+
+bool Body_pair_tracker::depth_pair(const Signed_distance_result& h, const Rigid_pose_3& X_WA,
+                                   const Rigid_pose_3& X_WB, int& pa, int& pb, Vec4& params) {
+  // The hulls' witnesses are support points, each anywhere on its support set: two crossing
+  // rods' are a generator each, and the search may return a rim of one and an end of the other,
+  // which do not face each other. B moved along the normal by the depth touches A at the
+  // depth's pair, so the certified closest pair there is that pair (on a continuum of them, one
+  // of it; centre_depth_seed picks the most central). Moved by the certified bound on the
+  // depth, the hulls are apart (by at most the depth's tolerance). False also when the
+  // witnesses face each other already (no solve needed).
+  const double shift = -h.lower_bound + depth_tolerance(h.distance);
+  if (!(shift > 0.0) || !std::isfinite(shift)) return false;
+  // Witnesses that face each other across the depth are its pair already (a ball's).
+  if ((h.point_b - h.point_a - h.distance * h.normal).norm() <= 1e-2 * shift) return false;
+  const Rigid_pose_3 X_WB_apart(X_WB.rotation(), X_WB.translation() + shift * h.normal);
+  Distance_request request = m_options.global;
+  request.relative_tolerance = std::max(request.relative_tolerance, 1e-6);
+  ++m_report.audits;
+  const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
+                                              X_WB_apart, request, m_workspace);
+  if ((g.status != Distance_status::Converged && g.status != Distance_status::Touching) ||
+      g.element_a < 0 || g.element_b < 0)
+    return false;
+  pa = m_model_a->primitive_of(g.kind_a, g.element_a);
+  pb = m_model_b->primitive_of(g.kind_b, g.element_b);
+  if (pa < 0 || pb < 0) return false;
+  params_from_global(m_model_a->primitives()[pa], g.params_a, params.data());
+  params_from_global(m_model_b->primitives()[pb], g.params_b,
+                     params.data() + m_model_a->primitives()[pa].feature.dimension());
   return true;
 }
 
@@ -282,9 +321,11 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
     return true;
   }
   // Still overlapping. Where the hulls' depth is the bodies' (one inside the other, or both
-  // convex), trackers deeper than it go and its pair is tracked; otherwise the local pairs stay.
-  if (overlap.kind == Overlap_kind::Surfaces_meet && !convex()) return false;
-  if (!seed_overlap(g, X_WA, X_WB, false, best, &overlap)) return false;
+  // convex), trackers deeper than it go and its pair is tracked. Other bodies whose surfaces
+  // meet: the same where one of its witnesses lies inside the other body (the hulls' depth
+  // bounds the bodies' translation distance, so a deeper tracked pair is stale: two crossing
+  // rods past the middle); otherwise the local pairs stay (seed_overlap).
+  if (!seed_overlap(g, X_WA, X_WB, true, best, &overlap)) return false;
   m_deep_checked = m_solved.distance;
   drop_inside(m_solved.distance - depth_tolerance(m_solved.distance));
   return true;

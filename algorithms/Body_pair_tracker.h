@@ -208,15 +208,20 @@ class Body_pair_tracker {
   // surfaces meet: a tracker, through contact, on the penetration pair of their hulls (of a
   // point inside a body: g's pair, its distance from the surface). Keeps
   // the answer of g (or of the depth) for a report that no tracker holds (m_solved). True if
-  // it seeded. Non-convex bodies whose surfaces meet: only once the trackers seeded at the common points
-  // found no penetration pair (`local_seeds_failed`), and only when each of the hulls'
-  // witnesses lies inside the other body.
+  // it seeded. Non-convex bodies whose surfaces meet: only once the trackers seeded at the
+  // common points found no penetration pair (`local_seeds_failed`), and only when each of the
+  // hulls' witnesses lies inside the other body (against a tracked depth, one of them).
   // Only when the depth is above `deeper` by more than its tolerance (a tracked pair as deep
   // holds it already).
   // `known`: overlap_of(g) when the caller has it.
   bool seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                     bool local_seeds_failed, double deeper = -HUGE_VAL,
                     const Overlap_test* known = nullptr);
+  // The pair of hull depth h (the closest pair of A and of B moved apart by the depth), as
+  // primitives and tracker parameters. False when h's own witnesses face each other across the
+  // depth (they are the pair) or that solve fails.
+  bool depth_pair(const Signed_distance_result& h, const Rigid_pose_3& X_WA,
+                  const Rigid_pose_3& X_WB, int& pa, int& pb, Vec4& params);
   // Moves a penetration seed on pair (pa, pb) (unit `n` from A to B, `depth` < 0) to the most
   // central pair of the same depth when it lies on a continuum of them, on its faces or on
   // faces beside its witnesses.
