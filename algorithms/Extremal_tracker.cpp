@@ -85,8 +85,21 @@ void Extremal_tracker::reset(const Vec4& params) {
   m_domain.clamp(m_params);
 }
 
-Formulation Extremal_tracker::choose_form() const {
-  return m_in_band ? m_normal_form : Formulation::Projection;
+Formulation Extremal_tracker::choose_form(unsigned on_edge) const {
+  if (!m_in_band) return Formulation::Projection;
+  // A reference surface held on its patch edge: its normal no longer gives the pair's
+  // direction, the other side's does (an ellipsoid below a plane's rim: the normal form of the
+  // plane finds the ellipsoid's lowest point, not its point nearest the rim). The other surface
+  // becomes the reference, or the projection form holds where it is held too or no surface.
+  const int na = m_a.dimension();
+  const bool held_a = (on_edge & 3u) != 0u, held_b = ((on_edge >> na) & 3u) != 0u;
+  if (m_normal_form == Formulation::Normal_of_a && held_a)
+    return m_b.dimension() == 2 && !held_b && na > 0 ? Formulation::Normal_of_b
+                                                     : Formulation::Projection;
+  if (m_normal_form == Formulation::Normal_of_b && held_b)
+    return na == 2 && !held_a && m_b.dimension() > 0 ? Formulation::Normal_of_a
+                                                     : Formulation::Projection;
+  return m_normal_form;
 }
 
 unsigned Extremal_tracker::edge_mask(const Vec4& params) const {
@@ -167,8 +180,11 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
                                const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt,
                                Vec4& U, Degeneracy& degeneracy) {
   const bool moving = V_A != nullptr;
+  // A pole is no edge: the pair goes over it (cross_poles), so it never freezes there.
+  Vec4 p = params;
+  const unsigned on_bound = clamp_to_edges(p);
   build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
-                    choose_form());
+                    choose_form(on_bound));
   // Hand-over with hysteresis: enter the normal form inside the band, leave beyond twice it.
   const double dist = m_system.distance;
   const bool in_band = m_normal_form != Formulation::Projection &&
@@ -176,7 +192,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   if (in_band != m_in_band) {
     m_in_band = in_band;
     build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
-                      choose_form());
+                      choose_form(on_bound));
   }
   const int n = m_system.size();
   // gain_dt > 0: the step's dt with the configured gains; a correction uses K dt = 1. The lanes
@@ -189,9 +205,6 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
     rhs = -m_system.phi;
   }
   // rhs is the parameter change over the step (U dt); U follows by dividing by dt.
-  Vec4 p = params;
-  // A pole is no edge: the pair goes over it (cross_poles), so it never freezes there.
-  const unsigned on_bound = clamp_to_edges(p);
   const unsigned lower = on_bound ? m_domain.lower_mask(p) : 0u;  // only read where on_bound
   // Kept for fill_result, which describes the pair this system was built at.
   m_last_on_edge = on_bound;
@@ -262,21 +275,28 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   // Merit of a candidate: the distance while seeking a minimum, else the residual of the
   // active conditions. Newton directions descend on it, so halving the step until it drops
   // keeps corrections from oscillating where the linearisation is poor (near a pole).
-  auto merit = [&](bool minimum) {
-    return minimum ? m_system.distance : m_system.phi.head(m_system.size()).norm();
+  // A parameter held on a patch edge keeps its condition's residual (the reduced problem is
+  // solved without it): the merit leaves it out.
+  auto merit = [&](bool minimum, unsigned edges) {
+    if (minimum) return m_system.distance;
+    double r2 = 0.0;
+    for (int k = 0; k < m_system.size(); ++k)
+      if (!(edges & (1u << k))) r2 += m_system.phi[k] * m_system.phi[k];
+    return std::sqrt(r2);
   };
   while (done < m_options.corrections) {
-    build_pair_system(a, b, m_params, m_system, false, choose_form());
-    // A parameter held on a patch edge keeps its projection error (the reduced problem is
-    // solved without it); counting it ran every correction on every step of an edge pair.
-    Vec4 errors = normalised_projection_errors(m_system).cwiseAbs();
     const unsigned edges = edge_mask(m_params);
+    const Formulation form = choose_form(edges);
+    build_pair_system(a, b, m_params, m_system, false, form);
+    // A held parameter keeps its projection error too; counting it ran every correction on
+    // every step of an edge pair.
+    Vec4 errors = normalised_projection_errors(m_system).cwiseAbs();
     for (int k = 0; k < 4; ++k)
       if (edges & (1u << k)) errors[k] = 0.0;
     if (errors.maxCoeff() <= m_options.correction_tolerance) break;
     const bool minimum =
         m_system.form == Formulation::Projection && signed_distance(edges, m_params) >= 0.0;
-    const double before = merit(minimum);
+    const double before = merit(minimum, edges);
     Vec4 U;
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
     ++done;
@@ -286,8 +306,8 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
       x = m_params + alpha * U;
       cross_poles(x);
       m_domain.clamp(x);
-      build_pair_system(a, b, x, m_system, false, choose_form());
-      if (merit(minimum) <= before) break;
+      build_pair_system(a, b, x, m_system, false, form);
+      if (merit(minimum, edges) <= before) break;
     }
     m_params = x;
   }
@@ -318,7 +338,7 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
 const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_WA,
                                                const Rigid_pose_3& X_WB) {
   build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false,
-                    choose_form());
+                    choose_form(edge_mask(m_params)));
   fill_result(t, signed_distance(edge_mask(m_params), m_params));
   m_result.iterations = 0;
   m_result.status = Track_status::Tracking;

@@ -102,7 +102,8 @@ class Extremal_tracker {
   void control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3* V_A,
                const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt, Vec4& U,
                Degeneracy& degeneracy);
-  Formulation choose_form() const;
+  // The form for a pair whose parameters on patch edges are `on_edge` (edge_mask).
+  Formulation choose_form(unsigned on_edge) const;
   // Bit k set when parameter k sits on a patch edge (poles excluded).
   unsigned edge_mask(const Vec4& params) const;
   // Signed |d| for the system last built, at `params`, whose edge_mask is `on_edge`.
