@@ -299,8 +299,15 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
     const bool trimmed = m_model_a->hierarchy().elements()[A.global_element].trimmed ||
                          m_model_b->hierarchy().elements()[B.global_element].trimmed;
+    // An edge's pair whose last solve found its own minimum just above the tracked one (an edge
+    // of a face beside the tracked point) would exhaust the proving budget at every check
+    // against that minimum before the usual solve: it goes to the usual solve at once. (Faces'
+    // pairs keep the proof: settling them to their witness costs more than it saves.)
+    const bool prove = (carrying || trimmed) &&
+                       !(C.holds_own_minimum && !carrying &&
+                         (A.kind == Primitive_kind::Edge || B.kind == Primitive_kind::Edge));
     Distance_request first = request;
-    if (carrying || trimmed) {
+    if (prove) {
       first.cutoff_floor = need;
       first.max_nodes = k_crease_nodes;
       if (carrying) {
@@ -332,7 +339,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // A proving solve not settled within its budget (a stationary point of the pair between
     // the tracked minimum and the cutoff): the usual solve, to the witness. (Kept proofs are
     // at or above the cutoff.)
-    if ((carrying || trimmed) && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
+    if (prove && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
       g = solve(request, false);
       carried_a = carried_b = 0u;
       kept = false;
@@ -347,6 +354,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     C.carried = {carried_a, carried_b};
     keep_proofs(C, Solve_pose{X_WA, m_relative}, kept);
     C.slack = g.element_a < 0 ? slack : 0.0;
+    C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());

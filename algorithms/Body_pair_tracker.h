@@ -325,6 +325,9 @@ class Body_pair_tracker {
     double tracked_distance = HUGE_VAL;
     int tracked_slot = -1;  // the live slot at that distance
     bool contact_seeded = false;  // seed_in_contact gave it a tracker
+    // Its last restricted solve found the pair's own minimum, at or above the tracked one: a
+    // stationary point no proving cutoff above the tracked minimum settles (check_vacated).
+    bool holds_own_minimum = false;
   };
   std::vector<Candidate> m_candidates, m_next_candidates;
   // Index of `key` in m_candidates, or -1.
