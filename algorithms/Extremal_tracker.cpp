@@ -321,15 +321,28 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
   r.point_a = m_system.a.p;
   r.point_b = m_system.b.p;
   r.distance = signed_dist;
-  if (r.distance != 0.0) {
-    r.normal = (r.point_b - r.point_a) / r.distance;
-  } else if (m_a.dimension() == 2) {
-    r.normal = unit_normal(m_system.outward_a);
-  } else if (m_b.dimension() == 2) {
-    r.normal = -unit_normal(m_system.outward_b);
-  } else {
-    r.normal.setZero();
+  // At contact, and so close that d's direction is its rounding and the tracker's residual (a
+  // ball rolling on a plane read horizontal normals), the normal is a surface's: A's outward
+  // one, else minus B's, preferring a side not held on an edge; at a pole, its limit.
+  r.normal.setZero();
+  if (std::abs(r.distance) <= 1e-6 * std::max(m_a.size(), m_b.size())) {
+    const unsigned on_edge = edge_mask(m_params);
+    const int na = m_a.dimension();
+    Vec3 side_normal[2] = {Vec3::Zero(), Vec3::Zero()};
+    if (na == 2)
+      side_normal[0] = unit_normal(outward_direction(m_a, m_system.a, m_params.data(),
+                                                     m_system.outward_a));
+    if (m_b.dimension() == 2)
+      side_normal[1] = -unit_normal(outward_direction(m_b, m_system.b, m_params.data() + na,
+                                                      m_system.outward_b));
+    const bool held[2] = {(on_edge & 3u) != 0u, ((on_edge >> na) & 3u) != 0u};
+    for (int pass = 0; pass < 2 && r.normal == Vec3::Zero(); ++pass)
+      for (int side = 0; side < 2 && r.normal == Vec3::Zero(); ++side)
+        if ((pass == 1 || !held[side]) && side_normal[side].allFinite())
+          r.normal = side_normal[side];
   }
+  if (r.normal == Vec3::Zero() && r.distance != 0.0)
+    r.normal = (r.point_b - r.point_a) / r.distance;
   r.projection_errors = m_system.projection;
   r.normalised_errors = normalised_projection_errors(m_system);
   r.normal_form = m_system.form != Formulation::Projection;

@@ -568,6 +568,9 @@ class Solver {
   // `normal`: the net normal lower_bound bounded this pair along, if any.
   void keep_bound(Live_node& a, Live_node& b, double L, const Normal_gap* normal = nullptr);
   void classify_meeting();
+  // A's outward unit normal at the witness where A is a surface with a normal there, else
+  // minus B's; zero when neither has one (curves, points, poles).
+  Vec3 surface_normal() const;
   void fill(Distance_result& r) const;
 
   const Distance_request& m_req;
@@ -1286,10 +1289,21 @@ void Solver::classify_meeting() {
     for (int k = 0; k < nb; ++k) G += xb.d[k].normalized() * xb.d[k].normalized().transpose();
     m_transversal = G.allFinite() && G.determinant() > 1e-9;
   }
-  if (na == 2) {
-    const Vec3 nn = xa.d[0].cross(xa.d[1]) * fa.outward_sign();
-    if (nn.norm() > 0.0) m_meet_normal = nn.normalized();
+  m_meet_normal = surface_normal();
+}
+
+Vec3 Solver::surface_normal() const {
+  if (m_best.ea < 0 || m_best.eb < 0) return Vec3::Zero();
+  for (int side = 0; side < 2; ++side) {
+    const Feature& f = feature(side, side == 0 ? m_best.ea : m_best.eb);
+    if (f.dimension() != 2) continue;
+    Feature_point x;
+    evaluate_feature(f, *m_side[side].X, side == 0 ? m_best.qa : m_best.qb, x, 1);
+    const Vec3 nn = x.d[0].cross(x.d[1]) * f.outward_sign();
+    const double n2 = nn.squaredNorm();
+    if (n2 > 0.0 && n2 < HUGE_VAL) return (side == 0 ? 1.0 : -1.0) * nn / std::sqrt(n2);
   }
+  return Vec3::Zero();
 }
 
 void Solver::fill(Distance_result& r) const {
@@ -1312,6 +1326,12 @@ void Solver::fill(Distance_result& r) const {
   r.params_a = {m_best.qa[0], m_best.qa[1]};
   r.params_b = {m_best.qb[0], m_best.qb[1]};
   if (m_best.distance > 0.0) r.normal = (m_best.pb - m_best.pa) / m_best.distance;
+  // So close that the witnesses' direction is their rounding and convergence error (a ball
+  // resting on a plane read (-0.77, 0.60, -0.20)): the surfaces' normal, as at contact.
+  if (m_best.distance <= 1e-6 * std::max(m_size[0], m_size[1])) {
+    const Vec3 n = surface_normal();
+    if (n != Vec3::Zero()) r.normal = n;
+  }
   r.newton_runs = m_newton_runs;
   r.intersection_attempts = m_intersection_attempts;
   r.nodes_created = static_cast<long>(m_side[0].pools->nodes.size() + m_side[1].pools->nodes.size());

@@ -136,7 +136,9 @@ struct Distance_result {
   Vec3 point_a = Vec3::Zero();  // witness on A, world
   Vec3 point_b = Vec3::Zero();  // witness on B, world
   // Unit normal from A to B: point_b - point_a = distance * normal. When the bodies meet:
-  // A's outward normal at the common point if A is a surface there, else zero.
+  // A's outward normal at the common point if A is a surface there, else minus B's, else zero.
+  // (The same where they are closer than a millionth of their size: d's direction there is
+  // rounding.)
   Vec3 normal = Vec3::Zero();
   Element_kind kind_a = Element_kind::Face, kind_b = Element_kind::Face;
   int element_a = -1, element_b = -1;  // index into Body::faces / Body::curves (0 for a point)

@@ -261,6 +261,34 @@ TEST(Contact, PointSlidesOffAnEdgeRoundACornerAndBack) {
   EXPECT_GT(s.boundary_steps, 2000);  // outside the patch for about 3.5 of the 6 seconds
 }
 
+// At contact the normal is a surface's (A's outward one, else minus B's), not the direction of
+// d, which there is rounding and the tracker's residual: a ball rolling on a plane, its
+// lowest point at times on the pole of its parametrisation, read (0, 0, 0) at the first step
+// and then horizontal normals such as (-0.37, -0.93, 0). Ball as A and as B.
+TEST(Contact, TheNormalAtContactIsTheSurfaces) {
+  const Body ball = make_sphere_body(1.0), plane = make_plane_body(10.0, 10.0);
+  const Vec3 v(1.0, 0.3, 0.0), w(-0.3, 1.0, 0.0);  // rolling without slipping
+  for (const bool ball_is_a : {true, false}) {
+    SCOPED_TRACE(ball_is_a ? "ball as A" : "ball as B");
+    Body_pair_tracker tracker(ball_is_a ? ball : plane, ball_is_a ? plane : ball);
+    const Vec3 expected = ball_is_a ? Vec3(0, 0, -1) : Vec3(0, 0, 1);
+    const double dt = 1e-2;
+    double worst = 0.0, worst_distance = 0.0;
+    for (int i = 0; i <= 100; ++i) {
+      const double t = i * dt;
+      const Rigid_pose_3 rolled = advance(Rigid_pose_3(Mat3::Identity(), Vec3(0, 0, 1)),
+                                          twist(v, w), t);
+      const Pair_report& r =
+          ball_is_a ? tracker.step(t, rolled, twist(v, w), Rigid_pose_3(), Twist_3{}, dt)
+                    : tracker.step(t, Rigid_pose_3(), Twist_3{}, rolled, twist(v, w), dt);
+      worst = std::max(worst, (r.normal - expected).norm());
+      worst_distance = std::max(worst_distance, std::abs(r.distance));
+    }
+    EXPECT_LE(worst, 1e-9);
+    EXPECT_LE(worst_distance, 1e-8);
+  }
+}
+
 TEST(Contact, ParallelPlanesThroughContact) {
   const Body a = make_plane_body(2.0, 2.0), b = make_plane_body(1.0, 1.0);
   const double w = 1.5;

@@ -100,6 +100,24 @@ TEST(GlobalDistance, EllipsoidsAgainstSupportFunctionCertificate) {
   EXPECT_GE(cases, 30);
 }
 
+// A ball resting on a plane, its lowest point near the pole of its parametrisation: the
+// witnesses 6e-13 apart, their direction rounding ((-0.77, 0.60, -0.20) before); the normal
+// is the ball's outward one there, from A to B; and the plane's when the ball touches exactly
+// at its pole (zero before).
+TEST(GlobalDistance, TheNormalOfBodiesThatTouchIsTheSurfaces) {
+  const Body ball = make_sphere_body(1.0), plane = make_plane_body(10.0, 10.0);
+  for (const Vec3& centre : {Vec3(0.01, 0, 1), Vec3(0, 0, 1), Vec3(0.3, -0.2, 1 + 1e-9)}) {
+    SCOPED_TRACE(::testing::Message() << "ball at " << centre.transpose());
+    const Distance_result r =
+        extremal_distance(ball, Rigid_pose_3(Mat3::Identity(), centre), plane, Rigid_pose_3());
+    EXPECT_NEAR(r.distance, centre.z() - 1.0, 1e-9);
+    EXPECT_LE((r.normal - Vec3(0, 0, -1)).norm(), 1e-6);
+    const Distance_result s =
+        extremal_distance(plane, Rigid_pose_3(), ball, Rigid_pose_3(Mat3::Identity(), centre));
+    EXPECT_LE((s.normal - Vec3(0, 0, 1)).norm(), 1e-6);
+  }
+}
+
 // A restricted query started from the sub-patch pairs of an earlier one (Body_pair_tracker
 // solves again only the pairs whose kept proofs fail): from all of them at the same poses, the
 // distance; after B moved, the pairs whose re-bound fell below the earlier distance solved
