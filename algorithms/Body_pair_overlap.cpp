@@ -272,9 +272,11 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // depth grew by a hundredth of the smaller body since the last one (a pair that stays as
   // deep, a shaft turning in a bore, is checked once). Between checks a stale pair can be off
   // by twice that; each check costs a solve and, for convex bodies, a coarse hull depth.
-  // Closed bodies (or points) only: an open sheet's inside is the side its normal points away
-  // from, and a pair behind it stays inside however far (a plane passed through another keeps
-  // its sign).
+  // Two open sheets are not checked: a sheet's inside is the side its normal points away from,
+  // and a pair behind it stays inside however far (a plane passed through another keeps its
+  // sign). A solid (or a point) against a sheet is checked for coming apart only: a ball that
+  // went through a plane and out the other side kept its far pole's pair, -(gap + 2r) with
+  // the bodies apart; while they still overlap the local pairs stay.
   const Live* deepest = nullptr;
   for (const Live& L : m_live)
     if (L.alive && L.valid && L.result.distance == best) deepest = &L;
@@ -285,7 +287,8 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   const double da = box_diagonal(m_model_a->box()), db = box_diagonal(m_model_b->box());
   const double size = point ? std::max(da, db) : std::min(da, db);
   // (The normal form holds for the step that reached a depth in one stride: fast motion.)
-  if (!solid_a || !solid_b || deepest == nullptr || deepest->closed_form ||
+  const bool against_sheet = !solid_a || !solid_b;
+  if ((!solid_a && !solid_b) || deepest == nullptr || deepest->closed_form ||
       (deepest->result.normal_form && -best <= 0.1 * size)) {
     m_deep_checked = HUGE_VAL;
     return false;
@@ -297,7 +300,20 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   const bool moved =
       point && std::isfinite(m_deep_checked) &&
       approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at, m_relative).closer > step;
-  if (!(best < m_deep_checked - step) && !moved) return false;
+  // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
+  // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as
+  // deep as the solid is wide along the pair's normal, so that its box lies past the sheet's
+  // witness.
+  bool past_sheet = false;
+  if (against_sheet) {
+    const Bbox_3& box = solid_a ? m_model_a->box() : m_model_b->box();
+    const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
+    const double width = std::abs(n.x()) * (box.xmax() - box.xmin()) +
+                         std::abs(n.y()) * (box.ymax() - box.ymin()) +
+                         std::abs(n.z()) * (box.zmax() - box.zmin());
+    past_sheet = -best >= width;
+  }
+  if (!(best < m_deep_checked - step) && !moved && !past_sheet) return false;
   m_deep_checked = best;
   m_deep_at = m_relative;
   const Distance_result g = global_solve(X_WA, X_WB);
@@ -320,6 +336,7 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
     m_deep_checked = HUGE_VAL;
     return true;
   }
+  if (against_sheet) return false;
   // Still overlapping. Where the hulls' depth is the bodies' (one inside the other, or both
   // convex), trackers deeper than it go and its pair is tracked. Other bodies whose surfaces
   // meet: the same where one of its witnesses lies inside the other body (the hulls' depth

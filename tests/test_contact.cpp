@@ -220,6 +220,35 @@ TEST(Contact, AnEllipsoidLeavingUnderAPlanesRimFollowsTheRim) {
   EXPECT_GT(s.boundary_steps, 50);  // the top passes the rim at t = 3.35
 }
 
+// A ball falling through an open plane and out the other side: while it cuts the plane it
+// keeps the depth on the side it entered by (an open sheet has no inside of its own), and once
+// out it is apart, |c_z| - r. Before, its far pole's pair went on, -(gap + 2r): -4 for a
+// ball 2 below the plane (found by a helper's probe); check_deep now checks a solid against a
+// sheet for coming apart.
+TEST(Contact, ABallThroughAnOpenPlaneIsApartOnceOut) {
+  const Body ball = make_sphere_body(1.0), plane = make_plane_body(10.0, 10.0);
+  const Vec3 v(0.0, 0.0, -6.0);
+  Body_pair_tracker tracker(ball, plane);
+  const double dt = 1e-3;
+  double worst_apart = 0.0;
+  int apart_rows = 0, positive_inside = 0;
+  for (int i = 0; i <= 1000; ++i) {
+    const double t = i * dt, z = 3.0 + v.z() * t;
+    const Pair_report& r = tracker.step(t, Rigid_pose_3(Mat3::Identity(), Vec3(0, 0, z)),
+                                        twist(v, Vec3::Zero()), Rigid_pose_3(), Twist_3{}, dt);
+    ASSERT_TRUE(std::isfinite(r.distance));
+    if (std::abs(z) > 1.0 + 1e-9) {
+      worst_apart = std::max(worst_apart, std::abs(r.distance - (std::abs(z) - 1.0)));
+      ++apart_rows;
+    } else if (std::abs(z) < 1.0 - 1e-9) {
+      positive_inside += r.distance > 0.0;
+    }
+  }
+  EXPECT_LE(worst_apart, 1e-9);
+  EXPECT_GT(apart_rows, 600);
+  EXPECT_EQ(positive_inside, 0);
+}
+
 TEST(Contact, ExtremalPointTravelsOverThePoles) {
   // Rotating about x turns the ellipsoid's z-poles (collapsed edges of its parametrisation)
   // through the bottom: the lowest point passes over each pole.
