@@ -536,6 +536,21 @@ void Body_pair_tracker::step_live(int k) {
                          lb > 1e-8 * fb.d[0].norm() * fb.d[1].norm();
     if (defined && na.dot(nb) > 1e-6 * la * lb) L.valid = false;
   }
+  // Apart between solids, B's outward normal faces away from A at B's witness as A's faces B:
+  // A's witness lies inside B, and the bodies are nested, not apart (a ball inside a part's
+  // plate whose tracker went over its pole onto the pair below it read +17.8; found by a
+  // helper's probe). No distance: the row is the solver's (its depth) until a tracker holds
+  // one.
+  if (L.valid && L.result.distance > m_options.contact_tolerance && A.is_surface() &&
+      B.is_surface() && closed(0) && closed(1)) {
+    Feature_point fb;
+    evaluate_feature(B.feature, *m_XB, L.result.params.data() + 2, fb, 1);
+    const Vec3 nb = B.feature.outward_sign() * fb.d[0].cross(fb.d[1]);
+    const Vec3 d = L.result.point_b - L.result.point_a;
+    const double lb = nb.norm();
+    if (lb > 1e-8 * fb.d[0].norm() * fb.d[1].norm() && nb.dot(d) > 1e-6 * lb * d.norm())
+      L.valid = false;
+  }
 }
 
 bool Body_pair_tracker::transition(int k) {

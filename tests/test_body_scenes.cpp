@@ -526,6 +526,31 @@ TEST(BodyScenes, ABallShotIntoABoxReportsItsDepth) {
   EXPECT_LE(worst, 1e-6);
 }
 
+// A ball (r = 2) inside the cornetta's 30 mm base plate (a closed, non-convex STEP part of 110
+// faces), the plate moving down past it: the ball stays inside. Its tracker, on the ball's top
+// against the plate's bottom face, went over the ball's pole onto the pair below it, which
+// reads apart by the ball's normal (+17.8 at t = 0.55, then +18 and +5.8 on other faces,
+// against a depth of 20.5; found by a helper's probe). Apart, B's outward normal faces away
+// from A as A's faces B only when A's witness lies inside B: such a pair is no distance, and
+// every row is the certified signed distance.
+TEST(BodyScenes, ABallInsideANonConvexPartIsNeverApart) {
+  const io::Model m = io::read_model(shared_data("step/bug27693_cornetta-step.stp"));
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Body& horn = m.bodies[0];
+  Body ball = make_sphere_body(2.0);
+  ball.placement = pose_of(Vec3(120.0, 60.0, -19.0));
+  const double worst = worst_row_error(
+      ball, horn, twist(Vec3(0.0, 0.0, -16.0), Vec3::Zero()), 0.05, 21,
+      [&](int i) { return pose_of(Vec3(0.0, 0.0, -16.0 * 0.05 * i)) * horn.placement; },
+      [&](const Rigid_pose_3& X_horn) {
+        const Signed_distance_result e = signed_distance(ball, ball.placement, horn, X_horn);
+        EXPECT_TRUE(e.is_certified());
+        EXPECT_LT(e.distance, 0.0);
+        return e.distance;
+      });
+  EXPECT_LE(worst, 1e-6);
+}
+
 TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
   // Two instances of the as1 assembly (../shared/data/SOURCES.md), the second lifted off the
   // first and sliding over it: distances between real trimmed multi-face parts.
