@@ -303,9 +303,13 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
   // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as
   // deep as the solid is wide along the pair's normal, so that its box lies past the sheet's
-  // witness.
+  // witness, and the bodies moved by a thousandth of the size since the last check (a solid
+  // through a curved sheet can stay that deep while they overlap).
   bool past_sheet = false;
-  if (against_sheet) {
+  if (against_sheet &&
+      (!std::isfinite(m_deep_checked) ||
+       approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at, m_relative).closer >
+           1e-3 * size)) {
     const Bbox_3& box = solid_a ? m_model_a->box() : m_model_b->box();
     const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
     const double width = std::abs(n.x()) * (box.xmax() - box.xmin()) +

@@ -536,8 +536,9 @@ void Body_pair_tracker::step_live(int k) {
                          lb > 1e-8 * fb.d[0].norm() * fb.d[1].norm();
     if (defined && na.dot(nb) > 1e-6 * la * lb) L.valid = false;
   }
-  // Apart between solids, B's outward normal faces away from A at B's witness as A's faces B:
-  // A's witness lies inside B, and the bodies are nested, not apart (a ball inside a part's
+  // Apart between solids (d along A's outward normal, where A's sign is read), B's outward
+  // normal at its witness faces away from A too: A's witness lies inside B, and the bodies are
+  // nested, not apart (a ball inside a part's
   // plate whose tracker went over its pole onto the pair below it read +17.8; found by a
   // helper's probe). No distance: the row is the solver's (its depth) until a tracker holds
   // one.

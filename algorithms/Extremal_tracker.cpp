@@ -300,13 +300,15 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     Vec4 U;
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
     ++done;
+    // (control may have crossed the band: the candidates are measured in the step's form.)
+    const Formulation step_form = choose_form(edges);
     double alpha = 1.0;
     Vec4 x = m_params;
     for (int halving = 0; halving < 12; ++halving, alpha *= 0.5) {
       x = m_params + alpha * U;
       cross_poles(x);
       m_domain.clamp(x);
-      build_pair_system(a, b, x, m_system, false, form);
+      build_pair_system(a, b, x, m_system, false, step_form);
       if (merit(minimum, edges) <= before) break;
     }
     m_params = x;
@@ -323,9 +325,13 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
   r.distance = signed_dist;
   // At contact, and so close that d's direction is its rounding and the tracker's residual (a
   // ball rolling on a plane read horizontal normals), the normal is a surface's: A's outward
-  // one, else minus B's, preferring a side not held on an edge; at a pole, its limit.
+  // one, else minus B's, from a side not held on a patch edge (its normal is not the pair's
+  // direction there; at a pole, the normal's limit), turned so that b - a = distance * normal
+  // keeps its sign. Held sides only at distance 0, where d gives no direction at all.
   r.normal.setZero();
-  if (std::abs(r.distance) <= 1e-6 * std::max(m_a.size(), m_b.size())) {
+  const double sa = m_a.size(), sb = m_b.size();
+  const double small = sa > 0.0 && sb > 0.0 ? std::min(sa, sb) : std::max(sa, sb);
+  if (std::abs(r.distance) <= 1e-6 * small) {
     const unsigned on_edge = edge_mask(m_params);
     const int na = m_a.dimension();
     Vec3 side_normal[2] = {Vec3::Zero(), Vec3::Zero()};
@@ -336,10 +342,11 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
       side_normal[1] = -unit_normal(outward_direction(m_b, m_system.b, m_params.data() + na,
                                                       m_system.outward_b));
     const bool held[2] = {(on_edge & 3u) != 0u, ((on_edge >> na) & 3u) != 0u};
-    for (int pass = 0; pass < 2 && r.normal == Vec3::Zero(); ++pass)
+    for (int pass = 0; pass < (r.distance == 0.0 ? 2 : 1) && r.normal == Vec3::Zero(); ++pass)
       for (int side = 0; side < 2 && r.normal == Vec3::Zero(); ++side)
         if ((pass == 1 || !held[side]) && side_normal[side].allFinite())
           r.normal = side_normal[side];
+    if (r.distance * r.normal.dot(r.point_b - r.point_a) < 0.0) r.normal = -r.normal;
   }
   if (r.normal == Vec3::Zero() && r.distance != 0.0)
     r.normal = (r.point_b - r.point_a) / r.distance;

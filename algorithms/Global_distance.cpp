@@ -568,9 +568,9 @@ class Solver {
   // `normal`: the net normal lower_bound bounded this pair along, if any.
   void keep_bound(Live_node& a, Live_node& b, double L, const Normal_gap* normal = nullptr);
   void classify_meeting();
-  // A's outward unit normal at the witness where A is a surface with a normal there, else
-  // minus B's; zero when neither has one (curves, points, poles).
-  Vec3 surface_normal() const;
+  // A's outward unit normal at its witness (side 0), or minus B's (side 1); zero where that
+  // side is no surface or has no normal there (a pole).
+  Vec3 surface_normal(int side) const;
   void fill(Distance_result& r) const;
 
   const Distance_request& m_req;
@@ -1289,21 +1289,23 @@ void Solver::classify_meeting() {
     for (int k = 0; k < nb; ++k) G += xb.d[k].normalized() * xb.d[k].normalized().transpose();
     m_transversal = G.allFinite() && G.determinant() > 1e-9;
   }
-  m_meet_normal = surface_normal();
+  m_meet_normal = surface_normal(0);
+  if (m_meet_normal == Vec3::Zero()) m_meet_normal = surface_normal(1);
 }
 
-Vec3 Solver::surface_normal() const {
-  if (m_best.ea < 0 || m_best.eb < 0) return Vec3::Zero();
-  for (int side = 0; side < 2; ++side) {
-    const Feature& f = feature(side, side == 0 ? m_best.ea : m_best.eb);
-    if (f.dimension() != 2) continue;
-    Feature_point x;
-    evaluate_feature(f, *m_side[side].X, side == 0 ? m_best.qa : m_best.qb, x, 1);
-    const Vec3 nn = x.d[0].cross(x.d[1]) * f.outward_sign();
-    const double n2 = nn.squaredNorm();
-    if (n2 > 0.0 && n2 < HUGE_VAL) return (side == 0 ? 1.0 : -1.0) * nn / std::sqrt(n2);
-  }
-  return Vec3::Zero();
+Vec3 Solver::surface_normal(int side) const {
+  const int e = side == 0 ? m_best.ea : m_best.eb;
+  if (e < 0) return Vec3::Zero();
+  const Feature& f = feature(side, e);
+  if (f.dimension() != 2) return Vec3::Zero();
+  Feature_point x;
+  evaluate_feature(f, *m_side[side].X, side == 0 ? m_best.qa : m_best.qb, x, 1);
+  const Vec3 nn = x.d[0].cross(x.d[1]) * f.outward_sign();
+  // (At a pole the cross product is rounding: no normal.)
+  const double n2 = nn.squaredNorm();
+  if (!(n2 > 1e-16 * x.d[0].squaredNorm() * x.d[1].squaredNorm()) || !(n2 < HUGE_VAL))
+    return Vec3::Zero();
+  return (side == 0 ? 1.0 : -1.0) * nn / std::sqrt(n2);
 }
 
 void Solver::fill(Distance_result& r) const {
@@ -1326,11 +1328,23 @@ void Solver::fill(Distance_result& r) const {
   r.params_a = {m_best.qa[0], m_best.qa[1]};
   r.params_b = {m_best.qb[0], m_best.qb[1]};
   if (m_best.distance > 0.0) r.normal = (m_best.pb - m_best.pa) / m_best.distance;
-  // So close that the witnesses' direction is their rounding and convergence error (a ball
-  // resting on a plane read (-0.77, 0.60, -0.20)): the surfaces' normal, as at contact.
-  if (m_best.distance <= 1e-6 * std::max(m_size[0], m_size[1])) {
-    const Vec3 n = surface_normal();
-    if (n != Vec3::Zero()) r.normal = n;
+  // At rounding distance the witnesses' direction is noise (a ball resting on a plane at its
+  // pole, 6e-13 apart, read (-0.77, 0.60, -0.20)): the surfaces' normal, as at contact. Closer
+  // than a millionth of the smaller body, the surface normal where it agrees with d within 5
+  // degrees (a face's interior point: exact there; a cap at its rim is not, and d stays),
+  // turned along d.
+  const double small = m_size[0] > 0.0 && m_size[1] > 0.0 ? std::min(m_size[0], m_size[1])
+                                                          : std::max(m_size[0], m_size[1]);
+  if (m_best.distance <= 1e-6 * small) {
+    const Vec3 n[2] = {surface_normal(0), surface_normal(1)};
+    if (m_best.distance <= 1e-12 * small) {
+      const Vec3& m = n[0] != Vec3::Zero() ? n[0] : n[1];
+      if (m != Vec3::Zero()) r.normal = m.dot(r.normal) < 0.0 ? Vec3(-m) : m;
+    } else {
+      const double c[2] = {n[0].dot(r.normal), n[1].dot(r.normal)};
+      const int k = std::abs(c[0]) >= std::abs(c[1]) ? 0 : 1;
+      if (std::abs(c[k]) >= 0.996) r.normal = c[k] < 0.0 ? Vec3(-n[k]) : n[k];
+    }
   }
   r.newton_runs = m_newton_runs;
   r.intersection_attempts = m_intersection_attempts;

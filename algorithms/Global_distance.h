@@ -137,8 +137,8 @@ struct Distance_result {
   Vec3 point_b = Vec3::Zero();  // witness on B, world
   // Unit normal from A to B: point_b - point_a = distance * normal. When the bodies meet:
   // A's outward normal at the common point if A is a surface there, else minus B's, else zero.
-  // (The same where they are closer than a millionth of their size: d's direction there is
-  // rounding.)
+  // (Also apart at rounding distance, and closer than a millionth of the smaller body where a
+  // surface normal agrees with d within 5 degrees, turned along d.)
   Vec3 normal = Vec3::Zero();
   Element_kind kind_a = Element_kind::Face, kind_b = Element_kind::Face;
   int element_a = -1, element_b = -1;  // index into Body::faces / Body::curves (0 for a point)

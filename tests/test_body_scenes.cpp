@@ -530,9 +530,9 @@ TEST(BodyScenes, ABallShotIntoABoxReportsItsDepth) {
 // faces), the plate moving down past it: the ball stays inside. Its tracker, on the ball's top
 // against the plate's bottom face, went over the ball's pole onto the pair below it, which
 // reads apart by the ball's normal (+17.8 at t = 0.55, then +18 and +5.8 on other faces,
-// against a depth of 20.5; found by a helper's probe). Apart, B's outward normal faces away
-// from A as A's faces B only when A's witness lies inside B: such a pair is no distance, and
-// every row is the certified signed distance.
+// against a depth of 20.5; found by a helper's probe). Read apart by A's normal, a pair whose
+// B normal faces away from A has A's witness inside B: such a pair is no distance, and every
+// row is the certified signed distance.
 TEST(BodyScenes, ABallInsideANonConvexPartIsNeverApart) {
   const io::Model m = io::read_model(shared_data("step/bug27693_cornetta-step.stp"));
   ASSERT_EQ(m.bodies.size(), 1u);

@@ -116,6 +116,21 @@ TEST(GlobalDistance, TheNormalOfBodiesThatTouchIsTheSurfaces) {
         extremal_distance(plane, Rigid_pose_3(), ball, Rigid_pose_3(Mat3::Identity(), centre));
     EXPECT_LE((s.normal - Vec3(0, 0, 1)).norm(), 1e-6);
   }
+  // Behind the open plane: from it to the ball is down, against its normal (b - a = d n).
+  const Distance_result behind = extremal_distance(
+      plane, Rigid_pose_3(), ball, Rigid_pose_3(Mat3::Identity(), Vec3(0.2, 0, -1 - 1e-7)));
+  EXPECT_LE((behind.normal - Vec3(0, 0, -1)).norm(), 1e-6);
+  // A cylinder tilted onto its rim over the plane: the side's and the cap's normals are not
+  // the pair's direction there (the cap's read 23 degrees off), the plane's is.
+  const Body cylinder = make_cylinder_body(1.0, 4.0);
+  const Mat3 tilt = Eigen::AngleAxisd(0.4, Vec3::UnitX()).toRotationMatrix();
+  for (double gap : {1e-5, 1e-7, 1e-9}) {
+    SCOPED_TRACE(::testing::Message() << "cylinder on its rim, gap " << gap);
+    const Distance_result r = extremal_distance(
+        cylinder, Rigid_pose_3(tilt, Vec3(0, 0, std::sin(0.4) + gap)), plane, Rigid_pose_3());
+    EXPECT_NEAR(r.distance, gap, 1e-12);
+    EXPECT_LE((r.normal - Vec3(0, 0, -1)).norm(), 1e-6);
+  }
 }
 
 // A restricted query started from the sub-patch pairs of an earlier one (Body_pair_tracker
