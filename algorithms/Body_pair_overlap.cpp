@@ -297,25 +297,22 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // A point inside a body is also checked as it moves: its depth is its distance from the
   // surface, whose nearest face changes without the tracked one growing deeper (a point rising
   // in a cylinder nears the top cap); that check is one point query.
-  const bool moved =
-      point && std::isfinite(m_deep_checked) &&
-      approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at, m_relative).closer > step;
+  // (How far the bodies moved since the last check, where that is read.)
+  const double moved_by = (point || against_sheet) && std::isfinite(m_deep_checked)
+                              ? approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at,
+                                               m_relative).closer
+                              : HUGE_VAL;
+  const bool moved = point && std::isfinite(m_deep_checked) && moved_by > step;
   // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
   // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as
   // deep as the solid is wide along the pair's normal, so that its box lies past the sheet's
   // witness, and the bodies moved by a thousandth of the size since the last check (a solid
   // through a curved sheet can stay that deep while they overlap).
   bool past_sheet = false;
-  if (against_sheet &&
-      (!std::isfinite(m_deep_checked) ||
-       approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at, m_relative).closer >
-           1e-3 * size)) {
+  if (against_sheet && moved_by > 1e-3 * size) {
     const Bbox_3& box = solid_a ? m_model_a->box() : m_model_b->box();
     const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
-    const double width = std::abs(n.x()) * (box.xmax() - box.xmin()) +
-                         std::abs(n.y()) * (box.ymax() - box.ymin()) +
-                         std::abs(n.z()) * (box.zmax() - box.zmin());
-    past_sheet = -best >= width;
+    past_sheet = -best >= box_support(box, n) + box_support(box, -n);
   }
   if (!(best < m_deep_checked - step) && !moved && !past_sheet) return false;
   m_deep_checked = best;

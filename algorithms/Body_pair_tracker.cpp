@@ -516,41 +516,36 @@ void Body_pair_tracker::step_live(int k) {
   if (L.result.distance < -m_options.contact_tolerance && !L.result.normal_form &&
       !is_converged(L, k_wandering_error))
     L.valid = false;
-  // Between solids a penetration pair's outward normals oppose each other. With them alike,
-  // the pair is no depth: a point of one surface inside the other body and its foot on the
-  // face it entered by (a ball that jumped deep into a box in one step). Open sheets keep it:
-  // a plane passed through its copy is behind it. Normals perpendicular are no sign of
-  // either (as1's bolt shank against its hole's rim on the bracket's top face: -0.475, an
-  // interference), hence the margin.
-  if (L.valid && L.result.distance < -m_options.contact_tolerance && A.is_surface() &&
+  // Between solids the outward normals at the witnesses tell a depth or a distance from a
+  // point of one body inside the other (only where they are defined, not at a pole, where the
+  // cross product is rounding; normals perpendicular are no sign of either, hence the margins):
+  // - a penetration pair's normals oppose each other. With them alike, the pair is no depth: a
+  //   point of one surface inside the other body and its foot on the face it entered by (a ball
+  //   that jumped deep into a box in one step). Open sheets keep it: a plane passed through its
+  //   copy is behind it. (as1's bolt shank against its hole's rim on the bracket's top face,
+  //   normals perpendicular: -0.475, an interference.)
+  // - apart, d goes along A's normal (where A's sign is read) and against B's. With B's along
+  //   it too, A's witness lies inside B: the bodies are nested, not apart (a ball inside a
+  //   part's plate, its tracker gone over its pole onto the pair below it, read +17.8; found by
+  //   a helper's probe). No distance: the row is the solver's depth until a tracker holds one.
+  if (L.valid && std::abs(L.result.distance) > m_options.contact_tolerance && A.is_surface() &&
       B.is_surface() && closed(0) && closed(1)) {
-    Feature_point fa, fb;
-    evaluate_feature(A.feature, *m_XA, L.result.params.data(), fa, 1);
-    evaluate_feature(B.feature, *m_XB, L.result.params.data() + 2, fb, 1);
-    const Vec3 na = A.feature.outward_sign() * fa.d[0].cross(fa.d[1]);
-    const Vec3 nb = B.feature.outward_sign() * fb.d[0].cross(fb.d[1]);
-    // Only where both normals are defined (not at a pole, where the cross product is
-    // rounding), and alike beyond rounding.
-    const double la = na.norm(), lb = nb.norm();
-    const bool defined = la > 1e-8 * fa.d[0].norm() * fa.d[1].norm() &&
-                         lb > 1e-8 * fb.d[0].norm() * fb.d[1].norm();
-    if (defined && na.dot(nb) > 1e-6 * la * lb) L.valid = false;
-  }
-  // Apart between solids (d along A's outward normal, where A's sign is read), B's outward
-  // normal at its witness faces away from A too: A's witness lies inside B, and the bodies are
-  // nested, not apart (a ball inside a part's
-  // plate whose tracker went over its pole onto the pair below it read +17.8; found by a
-  // helper's probe). No distance: the row is the solver's (its depth) until a tracker holds
-  // one.
-  if (L.valid && L.result.distance > m_options.contact_tolerance && A.is_surface() &&
-      B.is_surface() && closed(0) && closed(1)) {
-    Feature_point fb;
-    evaluate_feature(B.feature, *m_XB, L.result.params.data() + 2, fb, 1);
-    const Vec3 nb = B.feature.outward_sign() * fb.d[0].cross(fb.d[1]);
-    const Vec3 d = L.result.point_b - L.result.point_a;
-    const double lb = nb.norm();
-    if (lb > 1e-8 * fb.d[0].norm() * fb.d[1].norm() && nb.dot(d) > 1e-6 * lb * d.norm())
-      L.valid = false;
+    const auto outward = [](const Primitive& P, const Rigid_pose_3& X, const double* q, Vec3& n) {
+      Feature_point f;
+      evaluate_feature(P.feature, X, q, f, 1);
+      n = P.feature.outward_sign() * f.d[0].cross(f.d[1]);
+      return n.norm() > 1e-8 * f.d[0].norm() * f.d[1].norm();
+    };
+    const double* q = L.result.params.data();
+    Vec3 na, nb;
+    if (outward(B, *m_XB, q + 2, nb)) {
+      if (L.result.distance < 0.0) {
+        if (outward(A, *m_XA, q, na) && na.dot(nb) > 1e-6 * na.norm() * nb.norm()) L.valid = false;
+      } else {
+        const Vec3 d = L.result.point_b - L.result.point_a;
+        if (nb.dot(d) > 1e-6 * nb.norm() * d.norm()) L.valid = false;
+      }
+    }
   }
 }
 

@@ -316,7 +316,7 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   return done;
 }
 
-void Extremal_tracker::fill_result(double t, double signed_dist) {
+void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edge) {
   Track_result& r = m_result;
   r.time = t;
   r.params = m_params;
@@ -332,7 +332,6 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
   const double sa = m_a.size(), sb = m_b.size();
   const double small = sa > 0.0 && sb > 0.0 ? std::min(sa, sb) : std::max(sa, sb);
   if (std::abs(r.distance) <= 1e-6 * small) {
-    const unsigned on_edge = edge_mask(m_params);
     const int na = m_a.dimension();
     Vec3 side_normal[2] = {Vec3::Zero(), Vec3::Zero()};
     if (na == 2)
@@ -357,9 +356,10 @@ void Extremal_tracker::fill_result(double t, double signed_dist) {
 
 const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_WA,
                                                const Rigid_pose_3& X_WB) {
+  const unsigned on_edge = edge_mask(m_params);
   build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false,
-                    choose_form(edge_mask(m_params)));
-  fill_result(t, signed_distance(edge_mask(m_params), m_params));
+                    choose_form(on_edge));
+  fill_result(t, signed_distance(on_edge, m_params), on_edge);
   m_result.iterations = 0;
   m_result.status = Track_status::Tracking;
   m_result.degeneracy = Degeneracy::None;
@@ -389,7 +389,7 @@ const Track_result& Extremal_tracker::step(double t, const Rigid_pose_3& X_WA,
     }
     ++solves;
     if (s == 0) {  // the pair at time t, before the parameters move
-      fill_result(t, m_last_signed);
+      fill_result(t, m_last_signed, m_last_on_edge);
       result_on_edge = m_last_on_edge != 0;
     }
     if (m_options.integrator == Integrator::Euler) {

@@ -117,7 +117,8 @@ class Extremal_tracker {
   // that is not a pole).
   unsigned clamp_to_edges(Vec4& params) const;
   int correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Degeneracy& degeneracy);
-  void fill_result(double t, double signed_dist);
+  // The result for the system last built, at m_params, whose edge_mask is `on_edge`.
+  void fill_result(double t, double signed_dist, unsigned on_edge);
 
   Feature m_a, m_b;
   Tracker_options m_options;

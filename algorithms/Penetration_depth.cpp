@@ -50,13 +50,6 @@ namespace {
 using internal::Hom;
 using Hom_vector = std::vector<Hom, Eigen::aligned_allocator<Hom>>;
 
-// Largest n.x over a box (body frame).
-double box_support(const Bbox_3& b, const Vec3& n) {
-  const Vec3 c(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
-  const Vec3 h(0.5 * (b.xmax() - b.xmin()), 0.5 * (b.ymax() - b.ymin()), 0.5 * (b.zmax() - b.zmin()));
-  return n.dot(c) + n.cwiseAbs().dot(h);
-}
-
 // A tree node (piece < 0 ... node >= 0) or a sub-net in the pool (node < 0).
 struct Net_item {
   double key = 0.0;
