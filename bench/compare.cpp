@@ -17,7 +17,8 @@
 // References: the support-function certificate for (a) (gap ~1e-15), our certified global
 // solver at 1e-12 for (b) and (c) (BRepExtrema, an independent code, is compared with it).
 // Prints one Markdown table per scenario with the speed-up over each peer, the targets, and
-// writes bench/results/compare_<scenario>.svg (log-log time against error).
+// writes bench/results/compare_<scenario>.svg (log-log time against error; a partial run only
+// with --out).
 //
 // Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--out DIR]
 //                [--data DIR] [a] [b] [c]
@@ -547,6 +548,10 @@ void report(const Scenario& s, const std::vector<Row>& rows, const std::string& 
     plot.series[it->second].x.push_back(median(r.times_us));
     plot.series[it->second].y.push_back(maximum(r.errors));
   }
+  if (out_dir.empty()) {
+    std::printf("- plot: not written (a partial run; --out DIR writes it)\n");
+    return;
+  }
   const std::string path = out_dir + "/compare_" + s.key + ".svg";
   plot.write(path);
   std::printf("- plot: %s\n", path.c_str());
@@ -755,7 +760,7 @@ int main(int argc, char** argv) {
   bool quick = false, trackers_only = false;
   double only_rate = 0.0;
   double own_basin_gap = Body_pair_options{}.own_basin_gap;
-  std::string out_dir = "bench/results";
+  std::string out_dir;  // bench/results for full runs (below)
   std::string data = EXTREMAL_SHARED_DATA;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
@@ -782,6 +787,9 @@ int main(int argc, char** argv) {
       return help ? 0 : 2;
     }
   }
+  // A partial run (--quick, --trackers-only, --rate) leaves the committed plots of the full
+  // runs that bench/RESULTS.md shows alone unless --out says where to write.
+  if (out_dir.empty() && !quick && !trackers_only && !(only_rate > 0.0)) out_dir = "bench/results";
   auto wanted = [&](const char* key) {
     return only.empty() || std::find(only.begin(), only.end(), key) != only.end();
   };
