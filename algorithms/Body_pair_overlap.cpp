@@ -150,7 +150,7 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   // nut on a bolt, whose hulls overlap by the bolt's length with the bolt's end outside the
   // nut. There the trackers seeded at the common points find the local pair first.
   const bool meet = overlap.kind == Overlap_kind::Surfaces_meet;
-  if (meet && !convex() && (!local_seeds_failed || !closed(0) || !closed(1))) return false;
+  if (meet && !convex() && !local_seeds_failed) return false;
   if (!meet) {
     // One inside the other: at least as deep as the gap between the surfaces (the answer
     // should no depth be found), exactly so for a point, whose depth is its distance from the
@@ -177,6 +177,12 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
   if (!((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
     return false;  // a tracker holds it already
+  // Should no tracker hold a pair, the hulls' depth is the answer reported (as `extremal
+  // distance --signed` gives it), not the meeting surfaces' zero ('contact' for a ball deep in
+  // a part's plate). Against a tracked depth the search is coarse, and the answer stays.
+  if (!against)
+    keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
+                h.kind_b, h.element_b, h.params_b);
   int pa = -1, pb = -1;
   Vec4 params = Vec4::Zero();
   if (!depth_pair(h, X_WA, X_WB, pa, pb, params)) {
@@ -197,9 +203,15 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     // Against a tracked depth (deeper than the hulls', which bound the bodies' translation
     // distance: a stale pair), one witness inside the other body makes the pair one of the
     // bodies' own (two crossing rods: the thinner rod's witness only). Otherwise both must be.
-    const bool a_in_b = inside_body(HB, X_WB, fa.p);
-    const bool b_in_a = inside_body(HA, X_WA, fb.p);
-    if (against ? !(a_in_b || b_in_a) : !(a_in_b && b_in_a)) return false;
+    // An open sheet has no inside: only the witness on it is tested, inside the solid (a ball
+    // cutting a plane: the plane's point under the ball's lowest), and two sheets that cross
+    // keep the hulls' depth, as `extremal distance --signed` reports it.
+    const bool test_a = closed(1), test_b = closed(0);
+    const bool a_in_b = test_a && inside_body(HB, X_WB, fa.p);
+    const bool b_in_a = test_b && inside_body(HA, X_WA, fb.p);
+    const bool all_in = (a_in_b || !test_a) && (b_in_a || !test_b);
+    const bool one_in = a_in_b || b_in_a || (!test_a && !test_b);
+    if (against ? !one_in : !all_in) return false;
   }
   keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
               h.kind_b, h.element_b, h.params_b);

@@ -352,6 +352,25 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
   r.projection_errors = m_system.projection;
   r.normalised_errors = normalised_projection_errors(m_system);
   r.normal_form = m_system.form != Formulation::Projection;
+  r.alignment_error = 0.0;
+  if (r.normal_form) {
+    // phi's rows on the side opposite the reference are n_R . t_j with n_R unit; a held
+    // parameter keeps its residual, and a tangent that vanishes (a pole: its row is divided
+    // by the distance to it) carries no condition.
+    const int na = m_a.dimension(), n = m_system.size();
+    const bool ref_a = m_system.form == Formulation::Normal_of_a;
+    const int first = ref_a ? na : 0, last = ref_a ? n : na;
+    const Vec3 normal = unit_normal(
+        ref_a ? outward_direction(m_a, m_system.a, m_params.data(), m_system.outward_a)
+              : outward_direction(m_b, m_system.b, m_params.data() + na, m_system.outward_b));
+    for (int k = first; k < last; ++k) {
+      const int other = first + (last - 1 - k);
+      const double len2 = m_system.tangent_length2[k];
+      if ((on_edge & (1u << k)) || !(len2 > 1e-16 * m_system.tangent_length2[other])) continue;
+      r.alignment_error =
+          std::max(r.alignment_error, std::abs(normal.dot(m_system.tangent(k))) / std::sqrt(len2));
+    }
+  }
 }
 
 const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_WA,

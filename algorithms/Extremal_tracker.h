@@ -70,6 +70,11 @@ struct Track_result {
   Track_status status = Track_status::Tracking;
   Degeneracy degeneracy = Degeneracy::None;
   bool normal_form = false;  // the contact (normal) form of the conditions was active
+  // In the normal form: the largest |n_R . t_j| / |t_j| over the free parameters of the side
+  // opposite the reference surface R (the cosine between R's normal and a tangent there,
+  // zero once the normals are parallel); 0 in the projection form. Unlike the projection
+  // errors it is defined at d = 0, where the normal form runs.
+  double alignment_error = 0.0;
 };
 
 class Extremal_tracker {

@@ -252,6 +252,33 @@ TEST(Contact, ABallThroughAnOpenPlaneIsApartOnceOut) {
   EXPECT_GT(inside_rows, 300);
 }
 
+// A ball cutting an open plane and sliding across it, in three orientations (its pole at the
+// bottom, and two where its lowest point is a regular point). The surfaces cross on a circle:
+// a tracker seeded at a common point sat on a local minimum of the normal form's residual with
+// the normals 70 degrees apart, and the rows read -0.011 and +0.041 ('tracking', apart) for a
+// ball 0.7 deep. The depth is the ball's lowest point below the plane, z - 1, as the hulls'.
+TEST(Contact, ABallCuttingAnOpenPlaneReadsItsDepth) {
+  const Body ball = make_sphere_body(1.0), plane = make_plane_body(10.0, 10.0);
+  const double z = 0.3, dt = 1e-2;
+  const Vec3 v(3.0, 1.0, 0.0);
+  for (const double angle : {0.0, 0.5, 1.5707963267948966}) {
+    const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
+    Body_pair_tracker tracker(ball, plane);
+    double worst = 0.0;
+    int penetrating = 0;
+    for (int i = 0; i <= 200; ++i) {
+      const double t = i * dt;
+      const Pair_report& r = tracker.step(t, Rigid_pose_3(R, Vec3(-3.0, -1.0, z) + v * t),
+                                          twist(v, Vec3::Zero()), Rigid_pose_3(), Twist_3{}, dt);
+      ASSERT_TRUE(std::isfinite(r.distance));
+      worst = std::max(worst, std::abs(r.distance - (z - 1.0)));
+      if (r.status == Pair_status::Penetrating) ++penetrating;
+    }
+    EXPECT_LE(worst, 1e-9) << "angle " << angle;
+    EXPECT_EQ(penetrating, 201) << "angle " << angle;
+  }
+}
+
 TEST(Contact, ExtremalPointTravelsOverThePoles) {
   // Rotating about x turns the ellipsoid's z-poles (collapsed edges of its parametrisation)
   // through the bottom: the lowest point passes over each pole.
