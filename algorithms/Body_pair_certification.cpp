@@ -171,8 +171,12 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
   // each other were solved every step, 100 times the time.)
   const bool watch = m_options.own_basin_gap > 0.0 && !convex();
   for (Candidate& C : m_candidates) {
-    // (A pair whose trackers all left the bodies is handed over or re-seeded elsewhere.)
-    if (C.tracked && !(watch && std::isfinite(C.tracked_distance))) continue;
+    // A pair holds its tracked distance only through a valid tracker: one whose trackers all
+    // hold nothing (wandering, or sat on a false solution where its surfaces cross: a ball
+    // cutting a shell's face read 'tracking' at +0.025 on another face) is certified as an
+    // untracked one.
+    const bool held = std::isfinite(C.tracked_distance);
+    if (held && !watch) continue;
     const int pa = key_a(C.key), pb = key_b(C.key);
     if (!certifiable(pa, pb)) continue;
     // A tracked pair is watched for another basin of its own: what must clear is its tracked
@@ -180,7 +184,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // the tracked basin (half the gap), so the solves settle it rather than converge on it.
     double need = need_apart;
     double ceiling = HUGE_VAL;
-    if (C.tracked) {
+    if (held) {
       const double gap = std::max(4.0 * tol, m_options.own_basin_gap * C.tracked_distance);
       need = std::min(need_apart, C.tracked_distance - gap);
       ceiling = C.tracked_distance - 0.5 * gap;
@@ -249,7 +253,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     request.keep_proofs = true;
     // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
     // about the tracker's point, not by hull bounds (Distance_request::stationary).
-    if (C.tracked && C.tracked_slot >= 0 && !m_live[C.tracked_slot].closed_form &&
+    if (held && !m_live[C.tracked_slot].closed_form &&
         A.kind != Primitive_kind::Triangle && B.kind != Primitive_kind::Triangle) {
       const Vec4& q = m_live[C.tracked_slot].result.params;
       request.stationary = std::array<double, 4>{{q[0], q[1], q[2], q[3]}};
@@ -290,8 +294,8 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     };
     // (Not for a tracked pair's watch: two tracked pairs on one crease would each leave the
     // shared side to the other, and a closer point on it to neither.)
-    unsigned carried_a = C.tracked ? 0u : carried_sides(0, pa, pb, tol);
-    unsigned carried_b = C.tracked ? 0u : carried_sides(1, pb, pa, tol);
+    unsigned carried_a = held ? 0u : carried_sides(0, pa, pb, tol);
+    unsigned carried_b = held ? 0u : carried_sides(1, pb, pa, tol);
     const bool carrying = (carried_a | carried_b) != 0u;
     // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
     // edge) would likewise be solved to its witness there every time: it is proved against a
@@ -356,6 +360,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     C.slack = g.element_a < 0 ? slack : 0.0;
     C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
+    if (g.upper_bound <= m_options.contact_tolerance) m_vacated_meet = true;
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());

@@ -767,6 +767,7 @@ void Body_pair_tracker::fill_report() {
     ++trackers;
     if (L.valid && L.result.distance < best_d) best_d = L.result.distance, best = static_cast<int>(k);
   }
+  if (m_apart_unheld && best_d > m_options.contact_tolerance) best = -1;
   r.trackers = trackers;
   r.candidates = static_cast<int>(m_candidates.size());
   // No tracker holds: the solver's answer of this step (a step whose trackers hold nothing
@@ -828,6 +829,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   m_VA = &V_A;
   m_VB = &V_B;
   ++m_steps;
+  m_vacated_meet = m_apart_unheld = false;
   m_relative = X_WA.inverse() * X_WB;
   if (!m_started) {
     start(X_WA, X_WB);
@@ -862,10 +864,20 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       broad_phase(X_WA, X_WB, reach + k_broad_extra * reach_margin());
       step_all();
     }
-    if (best > m_options.contact_tolerance)
+    if (best > m_options.contact_tolerance) {
       check_vacated(X_WA, X_WB, best);
-    else if (seed_in_contact(X_WA, X_WB))
+      // A pair certified to meet while every tracker read the bodies apart (the trackers on
+      // its surfaces hold nothing): they are not apart. The whole pair is solved as one lost
+      // (the hulls' depth where no tracker takes it), and a tracker reading apart is no answer.
+      if (m_vacated_meet) {
+        const Distance_result g = global_solve(X_WA, X_WB);
+        if (seed_overlap(g, X_WA, X_WB, true)) ++r.reseeds;  // (keeps g, or the hulls' depth)
+        step_all();
+        m_apart_unheld = !(best <= m_options.contact_tolerance);
+      }
+    } else if (seed_in_contact(X_WA, X_WB)) {
       step_all();
+    }
   }
   // Non-convex bodies whose surfaces crossed at the start: when none of the trackers seeded at
   // the common points (the start's and the candidates') found a penetration pair, the hulls'
@@ -888,6 +900,10 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     if (seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity())) ++r.reseeds;
     if (seed_overlap(g, X_WA, X_WB, true)) ++r.reseeds;
     step_all();
+    // The surfaces cross by this step's solve: a tracker seeded at the common point that
+    // reads apart (not converged: a point of each surface, near each other) is no answer.
+    if (g.status == Distance_status::Intersecting && !(best <= m_options.contact_tolerance))
+      m_apart_unheld = true;
   }
   merge_duplicates();
   if (m_options.audit_every > 0 && m_steps % m_options.audit_every == 0 &&

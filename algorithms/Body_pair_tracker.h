@@ -432,6 +432,10 @@ class Body_pair_tracker {
   signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;
   double m_deep_checked = HUGE_VAL;  // the tracked minimum at check_deep's last check
   Rigid_pose_3 m_deep_at;             // and X_AB there
+  // This step: check_vacated certified a candidate pair whose surfaces meet while every
+  // tracker read the bodies apart; and, after the solve that follows, still no tracker holds a
+  // depth or contact: the report is the solver's (m_solved).
+  bool m_vacated_meet = false, m_apart_unheld = false;
   bool m_meets_at_start = false;  // the start's solve found the surfaces crossing: this one,
   Distance_result m_start_solve;  // at this relative pose
   Rigid_pose_3 m_start_relative;

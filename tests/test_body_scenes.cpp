@@ -583,6 +583,42 @@ TEST(BodyScenes, ABallRisingThroughAPartsPlateReadsADepthAtEveryRow) {
   EXPECT_GE(checked, 30);
 }
 
+// A ball sliding through one of the open shells of OCC22459 (../shared/data/SOURCES.md),
+// cutting one face after another (found by a helper's probe). Five rows read the bodies apart
+// (+0.016 to +0.054 m) while the certified signed distance was -0.08 to -0.12: a tracker on a
+// face the ball does not reach, or one seeded at a common point and not converged, while the
+// face the ball cuts had only trackers that held nothing and went uncertified. No row may read
+// apart while they overlap.
+TEST(BodyScenes, ABallThroughAnOpenShellNeverReadsApartWhileItCutsIt) {
+  // In metres, as the probe's scene had it, and tracked within 0.2 of the shell as there.
+  const std::vector<Body> shells = io::load_bodies(shared_data("step/OCC22459-TEST2.stp"), "mm", "m");
+  ASSERT_GE(shells.size(), 1u);
+  const Body& shell = shells[0];
+  const Body ball = make_sphere_body(0.05);
+  Body_pair_options options;
+  options.threshold = 0.2;
+  Body_pair_tracker tracker(ball, shell, options);
+  const Vec3 v(2.0, 0.0, -0.15);
+  const double dt = 0.01;
+  int apart_rows = 0, overlapping_apart = 0;
+  for (int i = 0; i <= 135; ++i) {
+    const double t = i * dt;
+    const Rigid_pose_3 X = pose_of(Vec3(-0.3, 0.9, 1.75) + v * t);
+    const Pair_report& r = tracker.step(t, X, twist(v, Vec3::Zero()), shell.placement, Twist_3{}, dt);
+    ASSERT_TRUE(std::isfinite(r.distance));
+    if (!(r.distance > 1e-9)) continue;
+    ++apart_rows;
+    const Signed_distance_result e = signed_distance(ball, X, shell, shell.placement);
+    ASSERT_TRUE(e.is_certified());
+    if (e.distance < -1e-6) {
+      ++overlapping_apart;
+      ADD_FAILURE() << "t = " << t << ": " << r.distance << " against " << e.distance;
+    }
+  }
+  EXPECT_EQ(overlapping_apart, 0);
+  EXPECT_GE(apart_rows, 40);  // the ball's approach and its way out
+}
+
 TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
   // Two instances of the as1 assembly (../shared/data/SOURCES.md), the second lifted off the
   // first and sliding over it: distances between real trimmed multi-face parts.
