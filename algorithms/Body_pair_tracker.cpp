@@ -507,14 +507,29 @@ void Body_pair_tracker::step_live(int k) {
   else if (first && L.seeded_apart && L.result.distance < -m_options.contact_tolerance &&
            (!closed(0) || !closed(1)))
     L.behind_sheet = true;
-  // A normal-form reading whose normals are far from parallel holds no pair: seeded at a
-  // common point of surfaces that cross (a ball cutting a sheet), the normal form's residual
-  // has a local minimum there that is no solution, and the tracker sits on it (read -0.011 and
-  // +0.041 for a ball 0.7 deep in a plane). Through contact the corrections keep the normals
-  // parallel to rounding.
-  if (L.result.normal_form && L.result.degeneracy == Degeneracy::None &&
-      L.result.alignment_error > k_wandering_error)
-    L.valid = false;
+  // A normal-form reading that satisfies neither half of its conditions holds no pair: its
+  // normals far from parallel, and d not along the reference normal. Seeded at a common point
+  // of surfaces that cross (a ball cutting a sheet), the normal form's residual has a local
+  // minimum there that is no solution, and the tracker sits on it (read -0.011 and +0.041 for
+  // a ball 0.7 deep in a plane). Through contact the corrections keep both to rounding. With d
+  // along the reference normal, the reading is the distance from that surface to a point of
+  // the other, and stays (as1's bolt shank against its hole's rim on the bracket's top face,
+  // normals perpendicular: -0.475, the interference). At d = 0, where d has no direction, a
+  // regular system decides (surfaces crossing there, no contact); a singular one is a rim or
+  // an edge touching the other surface, in contact (as1's rod on a plate's edge).
+  if (L.result.normal_form && L.result.alignment_error > k_wandering_error) {
+    bool holds;
+    if (std::abs(L.result.distance) > m_options.contact_tolerance) {
+      holds = true;
+      const int first = L.result.reference_is_b ? na : 0;
+      const int last = L.result.reference_is_b ? na + B.feature.dimension() : na;
+      for (int k = first; k < last && holds; ++k)
+        holds = std::abs(L.result.normalised_errors[k]) <= k_wandering_error;
+    } else {
+      holds = L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole;
+    }
+    if (!holds) L.valid = false;
+  }
   if (L.result.normal_form && !L.behind_sheet && L.valid) L.through_contact = true;
   else if (L.result.distance > 0.0) L.through_contact = false;
   if (L.result.distance < -m_options.contact_tolerance && !L.through_contact) L.valid = false;

@@ -353,6 +353,7 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
   r.normalised_errors = normalised_projection_errors(m_system);
   r.normal_form = m_system.form != Formulation::Projection;
   r.alignment_error = 0.0;
+  r.reference_is_b = m_system.form == Formulation::Normal_of_b;
   if (r.normal_form) {
     // phi's rows on the side opposite the reference are n_R . t_j with n_R unit; a held
     // parameter keeps its residual, and a tangent that vanishes (a pole: its row is divided

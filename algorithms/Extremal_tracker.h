@@ -75,6 +75,7 @@ struct Track_result {
   // zero once the normals are parallel); 0 in the projection form. Unlike the projection
   // errors it is defined at d = 0, where the normal form runs.
   double alignment_error = 0.0;
+  bool reference_is_b = false;  // in the normal form: B's normal is the reference, else A's
 };
 
 class Extremal_tracker {

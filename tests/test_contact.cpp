@@ -279,6 +279,30 @@ TEST(Contact, ABallCuttingAnOpenPlaneReadsItsDepth) {
   }
 }
 
+// A ball 0.7 deep in a cylinder's cap, starting over the cap's centre (the disk's collapsed
+// edge, a pole) and sliding off it, in three orientations. Tracking the penetration saddle, the
+// cap's row along its vanishing tangent held the witness on the centre while the ball moved:
+// -0.7 drifted to -0.645 (the ball turned a quarter about x); turned by 0.5 rad the first row
+// read -0.26 from a tracker seeded at a common point.
+TEST(Contact, ABallDeepInACapSlidesOffItsCentre) {
+  const Body ball = make_sphere_body(1.0), cylinder = make_cylinder_body(5.0, 2.0);
+  const double z = 2.3, dt = 1e-2;
+  const Vec3 v(1.0, 0.0, 0.0);
+  for (const double angle : {0.0, 0.5, 1.5707963267948966}) {
+    const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
+    Body_pair_tracker tracker(ball, cylinder);
+    double worst = 0.0;
+    for (int i = 0; i <= 100; ++i) {
+      const double t = i * dt;
+      const Pair_report& r = tracker.step(t, Rigid_pose_3(R, Vec3(0.0, 0.0, z) + v * t),
+                                          twist(v, Vec3::Zero()), Rigid_pose_3(), Twist_3{}, dt);
+      ASSERT_TRUE(std::isfinite(r.distance));
+      worst = std::max(worst, std::abs(r.distance - (z - 2.0 - 1.0)));
+    }
+    EXPECT_LE(worst, 1e-9) << "angle " << angle;
+  }
+}
+
 TEST(Contact, ExtremalPointTravelsOverThePoles) {
   // Rotating about x turns the ellipsoid's z-poles (collapsed edges of its parametrisation)
   // through the bottom: the lowest point passes over each pole.
