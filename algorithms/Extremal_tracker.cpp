@@ -12,6 +12,10 @@ namespace {
 // Far from the pair a full Newton step can leap to another stationary pair: the parameter
 // change per step is limited to this fraction of each domain, keeping the direction.
 constexpr double k_max_change_fraction = 0.125;
+// A reference surface whose witness comes within this fraction of a parameter's range from a
+// pole hands the normal form's reference over, until it is farther than the second (choose_form).
+constexpr double k_near_pole_fraction = 1e-3;
+constexpr double k_leave_pole_fraction = 0.1;
 }  // namespace
 
 const char* to_string(Track_status s) {
@@ -85,20 +89,50 @@ void Extremal_tracker::reset(const Vec4& params) {
   m_domain.clamp(m_params);
 }
 
-Formulation Extremal_tracker::choose_form(unsigned on_edge) const {
+bool Extremal_tracker::near_pole(int side, const Vec4& params, double fraction) const {
+  if (!(m_pole_lower | m_pole_upper)) return false;
+  const int first = side == 0 ? 0 : m_a.dimension();
+  const int count = side == 0 ? m_a.dimension() : m_b.dimension();
+  for (int k = first; k < first + count; ++k) {
+    const double near = fraction * (m_domain.upper[k] - m_domain.lower[k]);
+    if (((m_pole_lower >> k) & 1u) && params[k] - m_domain.lower[k] < near) return true;
+    if (((m_pole_upper >> k) & 1u) && m_domain.upper[k] - params[k] < near) return true;
+  }
+  return false;
+}
+
+void Extremal_tracker::update_reference_at_pole(const Vec4& params) {
+  if (m_normal_form == Formulation::Projection || !(m_pole_lower | m_pole_upper)) return;
+  const int side = m_normal_form == Formulation::Normal_of_a ? 0 : 1;
+  m_reference_at_pole =
+      near_pole(side, params, m_reference_at_pole ? k_leave_pole_fraction : k_near_pole_fraction);
+}
+
+Formulation Extremal_tracker::choose_form(unsigned on_edge, const Vec4& params) const {
   if (!m_in_band) return Formulation::Projection;
   // A reference surface held on its patch edge: its normal no longer gives the pair's
   // direction, the other side's does (an ellipsoid below a plane's rim: the normal form of the
   // plane finds the ellipsoid's lowest point, not its point nearest the rim). The other surface
   // becomes the reference, or the projection form holds where it is held too or no surface.
+  // A reference at a pole of its parametrisation keeps its normal, but its rows (d . t, whose
+  // tangent vanishes there) hold the other witness along one direction only, and the normal
+  // rows of a flat other surface hold it nowhere: a ball's pole sliding 0.01 deep on a plane
+  // left the plane's witness behind (read -0.33). The other surface is the reference there
+  // (update_reference_at_pole), if it is one, not held and not at a pole itself.
   const int na = m_a.dimension();
   const bool held_a = (on_edge & 3u) != 0u, held_b = ((on_edge >> na) & 3u) != 0u;
-  if (m_normal_form == Formulation::Normal_of_a && held_a)
-    return m_b.dimension() == 2 && !held_b && na > 0 ? Formulation::Normal_of_b
-                                                     : Formulation::Projection;
-  if (m_normal_form == Formulation::Normal_of_b && held_b)
-    return na == 2 && !held_a && m_b.dimension() > 0 ? Formulation::Normal_of_a
-                                                     : Formulation::Projection;
+  if (m_normal_form == Formulation::Normal_of_a) {
+    const bool b_can = m_b.dimension() == 2 && !held_b && na > 0;
+    if (held_a) return b_can ? Formulation::Normal_of_b : Formulation::Projection;
+    if (m_reference_at_pole && b_can && !near_pole(1, params, k_near_pole_fraction))
+      return Formulation::Normal_of_b;
+  }
+  if (m_normal_form == Formulation::Normal_of_b) {
+    const bool a_can = na == 2 && !held_a && m_b.dimension() > 0;
+    if (held_b) return a_can ? Formulation::Normal_of_a : Formulation::Projection;
+    if (m_reference_at_pole && a_can && !near_pole(0, params, k_near_pole_fraction))
+      return Formulation::Normal_of_a;
+  }
   return m_normal_form;
 }
 
@@ -183,8 +217,9 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   // A pole is no edge: the pair goes over it (cross_poles), so it never freezes there.
   Vec4 p = params;
   const unsigned on_bound = clamp_to_edges(p);
+  update_reference_at_pole(params);
   build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
-                    choose_form(on_bound));
+                    choose_form(on_bound, params));
   // Hand-over with hysteresis: enter the normal form inside the band, leave beyond twice it.
   const double dist = m_system.distance;
   const bool in_band = m_normal_form != Formulation::Projection &&
@@ -192,7 +227,7 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   if (in_band != m_in_band) {
     m_in_band = in_band;
     build_pair_system({&m_a, &X_WA, V_A}, {&m_b, &X_WB, V_B}, params, m_system, moving,
-                      choose_form(on_bound));
+                      choose_form(on_bound, params));
   }
   const int n = m_system.size();
   // gain_dt > 0: the step's dt with the configured gains; a correction uses K dt = 1. The lanes
@@ -286,7 +321,8 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   };
   while (done < m_options.corrections) {
     const unsigned edges = edge_mask(m_params);
-    const Formulation form = choose_form(edges);
+    update_reference_at_pole(m_params);
+    const Formulation form = choose_form(edges, m_params);
     build_pair_system(a, b, m_params, m_system, false, form);
     // A held parameter keeps its projection error too; counting it ran every correction on
     // every step of an edge pair.
@@ -301,7 +337,7 @@ int Extremal_tracker::correct(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
     control(m_params, X_WA, nullptr, X_WB, nullptr, 1.0, U, degeneracy);
     ++done;
     // (control may have crossed the band: the candidates are measured in the step's form.)
-    const Formulation step_form = choose_form(edges);
+    const Formulation step_form = choose_form(edges, m_params);
     double alpha = 1.0;
     Vec4 x = m_params;
     for (int halving = 0; halving < 12; ++halving, alpha *= 0.5) {
@@ -377,8 +413,9 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
 const Track_result& Extremal_tracker::evaluate(double t, const Rigid_pose_3& X_WA,
                                                const Rigid_pose_3& X_WB) {
   const unsigned on_edge = edge_mask(m_params);
+  update_reference_at_pole(m_params);
   build_pair_system({&m_a, &X_WA, nullptr}, {&m_b, &X_WB, nullptr}, m_params, m_system, false,
-                    choose_form(on_edge));
+                    choose_form(on_edge, m_params));
   fill_result(t, signed_distance(on_edge, m_params), on_edge);
   m_result.iterations = 0;
   m_result.status = Track_status::Tracking;

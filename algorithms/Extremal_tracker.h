@@ -108,8 +108,12 @@ class Extremal_tracker {
   void control(const Vec4& params, const Rigid_pose_3& X_WA, const Twist_3* V_A,
                const Rigid_pose_3& X_WB, const Twist_3* V_B, double gain_dt, Vec4& U,
                Degeneracy& degeneracy);
-  // The form for a pair whose parameters on patch edges are `on_edge` (edge_mask).
-  Formulation choose_form(unsigned on_edge) const;
+  // The form for a pair at `params` whose parameters on patch edges are `on_edge` (edge_mask).
+  Formulation choose_form(unsigned on_edge, const Vec4& params) const;
+  // Whether a parameter of side 0 (A) or 1 (B) lies within `fraction` of its range from a pole.
+  bool near_pole(int side, const Vec4& params, double fraction) const;
+  // Sets m_reference_at_pole for the pair at `params` (with hysteresis).
+  void update_reference_at_pole(const Vec4& params);
   // Bit k set when parameter k sits on a patch edge (poles excluded).
   unsigned edge_mask(const Vec4& params) const;
   // Signed |d| for the system last built, at `params`, whose edge_mask is `on_edge`.
@@ -134,6 +138,9 @@ class Extremal_tracker {
   double m_band = 0.0;     // |d| below which the normal form is used
   Formulation m_normal_form = Formulation::Projection;  // the normal form this pair can use
   bool m_in_band = false;  // hysteresis state of the hand-over
+  // The normal form's reference surface has its witness at a pole: the other one is the
+  // reference (choose_form).
+  bool m_reference_at_pole = false;
   // Bit k: parameter k's lower (upper) bound is a pole, not an edge.
   unsigned m_pole_lower = 0, m_pole_upper = 0;
   Pair_system m_system;
