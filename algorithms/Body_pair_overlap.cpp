@@ -308,13 +308,17 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   const double step = 1e-2 * size;
   // A point inside a body is also checked as it moves: its depth is its distance from the
   // surface, whose nearest face changes without the tracked one growing deeper (a point rising
-  // in a cylinder nears the top cap); that check is one point query.
+  // in a cylinder nears the top cap); that check is one point query. Two solids likewise, at
+  // a twentieth of the smaller body's size (a solve and a hull depth each): a ball rising in a
+  // cylinder kept the side wall's pair, -2.5, as the cap came within 0.2, and read -1.5
+  // 'penetrating' once out of the top, apart by 0.5 (found by a helper's probe).
   // (How far the bodies moved since the last check, where that is read.)
-  const double moved_by = (point || against_sheet) && std::isfinite(m_deep_checked)
+  const double moved_by = std::isfinite(m_deep_checked)
                               ? approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at,
                                                m_relative).closer
                               : HUGE_VAL;
-  const bool moved = point && std::isfinite(m_deep_checked) && moved_by > step;
+  const bool moved = std::isfinite(m_deep_checked) &&
+                     moved_by > (point ? step : against_sheet ? HUGE_VAL : 10.0 * step);
   // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
   // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as
   // deep as the solid is wide along the pair's normal, so that its box lies past the sheet's
