@@ -252,6 +252,24 @@ TEST(Contact, ABallThroughAnOpenPlaneIsApartOnceOut) {
   EXPECT_GT(inside_rows, 300);
 }
 
+// A turned by R sliding at v from `start` against B at rest, over steps + 1 steps of dt: the
+// worst |distance - expected|, and how many rows read penetrating.
+double worst_sliding_error(const Body& a, const Body& b, const Mat3& R, const Vec3& start,
+                           const Vec3& v, int steps, double dt, double expected,
+                           int* penetrating = nullptr) {
+  Body_pair_tracker tracker(a, b);
+  double worst = 0.0;
+  for (int i = 0; i <= steps; ++i) {
+    const double t = i * dt;
+    const Pair_report& r = tracker.step(t, Rigid_pose_3(R, start + v * t), twist(v, Vec3::Zero()),
+                                        Rigid_pose_3(), Twist_3{}, dt);
+    if (!std::isfinite(r.distance)) return HUGE_VAL;
+    worst = std::max(worst, std::abs(r.distance - expected));
+    if (penetrating && r.status == Pair_status::Penetrating) ++*penetrating;
+  }
+  return worst;
+}
+
 // A ball cutting an open plane and sliding across it, in three orientations (its pole at the
 // bottom, and two where its lowest point is a regular point). The surfaces cross on a circle:
 // a tracker seeded at a common point sat on a local minimum of the normal form's residual with
@@ -259,47 +277,31 @@ TEST(Contact, ABallThroughAnOpenPlaneIsApartOnceOut) {
 // ball 0.7 deep. The depth is the ball's lowest point below the plane, z - 1, as the hulls'.
 TEST(Contact, ABallCuttingAnOpenPlaneReadsItsDepth) {
   const Body ball = make_sphere_body(1.0), plane = make_plane_body(10.0, 10.0);
-  const double z = 0.3, dt = 1e-2;
-  const Vec3 v(3.0, 1.0, 0.0);
+  const double z = 0.3;
   for (const double angle : {0.0, 0.5, 1.5707963267948966}) {
     const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
-    Body_pair_tracker tracker(ball, plane);
-    double worst = 0.0;
     int penetrating = 0;
-    for (int i = 0; i <= 200; ++i) {
-      const double t = i * dt;
-      const Pair_report& r = tracker.step(t, Rigid_pose_3(R, Vec3(-3.0, -1.0, z) + v * t),
-                                          twist(v, Vec3::Zero()), Rigid_pose_3(), Twist_3{}, dt);
-      ASSERT_TRUE(std::isfinite(r.distance));
-      worst = std::max(worst, std::abs(r.distance - (z - 1.0)));
-      if (r.status == Pair_status::Penetrating) ++penetrating;
-    }
-    EXPECT_LE(worst, 1e-9) << "angle " << angle;
+    EXPECT_LE(worst_sliding_error(ball, plane, R, Vec3(-3.0, -1.0, z), Vec3(3.0, 1.0, 0.0), 200,
+                                  1e-2, z - 1.0, &penetrating),
+              1e-9)
+        << "angle " << angle;
     EXPECT_EQ(penetrating, 201) << "angle " << angle;
   }
 }
 
 // A ball 0.7 deep in a cylinder's cap, starting over the cap's centre (the disk's collapsed
-// edge, a pole) and sliding off it, in three orientations. Tracking the penetration saddle, the
-// cap's row along its vanishing tangent held the witness on the centre while the ball moved:
-// -0.7 drifted to -0.645 (the ball turned a quarter about x); turned by 0.5 rad the first row
-// read -0.26 from a tracker seeded at a common point.
+// edge, a pole) and sliding off it, in three orientations. Turned by 0.5 rad, a tracker seeded
+// at a common point, its system singular and its normals 60 degrees apart, read -0.26 on the
+// first row and the rows wandered (0.44 off at worst).
 TEST(Contact, ABallDeepInACapSlidesOffItsCentre) {
   const Body ball = make_sphere_body(1.0), cylinder = make_cylinder_body(5.0, 2.0);
-  const double z = 2.3, dt = 1e-2;
-  const Vec3 v(1.0, 0.0, 0.0);
+  const double z = 2.3;
   for (const double angle : {0.0, 0.5, 1.5707963267948966}) {
     const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
-    Body_pair_tracker tracker(ball, cylinder);
-    double worst = 0.0;
-    for (int i = 0; i <= 100; ++i) {
-      const double t = i * dt;
-      const Pair_report& r = tracker.step(t, Rigid_pose_3(R, Vec3(0.0, 0.0, z) + v * t),
-                                          twist(v, Vec3::Zero()), Rigid_pose_3(), Twist_3{}, dt);
-      ASSERT_TRUE(std::isfinite(r.distance));
-      worst = std::max(worst, std::abs(r.distance - (z - 2.0 - 1.0)));
-    }
-    EXPECT_LE(worst, 1e-9) << "angle " << angle;
+    EXPECT_LE(worst_sliding_error(ball, cylinder, R, Vec3(0.0, 0.0, z), Vec3(1.0, 0.0, 0.0), 100,
+                                  1e-2, z - 2.0 - 1.0),
+              1e-9)
+        << "angle " << angle;
   }
 }
 
