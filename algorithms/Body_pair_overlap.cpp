@@ -282,8 +282,9 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // still there, negative, with the bodies apart.
   // Such a stale pair grows deeper as the bodies move on: the check runs again once the
   // depth grew by a hundredth of the smaller body since the last one (a pair that stays as
-  // deep, a shaft turning in a bore, is checked once). Between checks a stale pair can be off
-  // by twice that; each check costs a solve and, for convex bodies, a coarse hull depth.
+  // deep, a shaft turning in a bore, is checked once; bodies that move, below). Between checks
+  // a stale pair can be off by twice that; each check costs a solve and, for convex bodies, a
+  // coarse hull depth.
   // Two open sheets are not checked: a sheet's inside is the side its normal points away from,
   // and a pair behind it stays inside however far (a plane passed through another keeps its
   // sign). A solid (or a point) against a sheet is checked for coming apart only: a ball that
@@ -308,17 +309,25 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   const double step = 1e-2 * size;
   // A point inside a body is also checked as it moves: its depth is its distance from the
   // surface, whose nearest face changes without the tracked one growing deeper (a point rising
-  // in a cylinder nears the top cap); that check is one point query. Two solids likewise, at
-  // a twentieth of the smaller body's size (a solve and a hull depth each): a ball rising in a
-  // cylinder kept the side wall's pair, -2.5, as the cap came within 0.2, and read -1.5
-  // 'penetrating' once out of the top, apart by 0.5 (found by a helper's probe).
+  // in a cylinder nears the top cap); that check is one point query. Two solids likewise, once
+  // B's box centre has moved a tenth of the smaller body's size relative to A (a solve and a
+  // hull depth each): a ball rising in a cylinder kept the side wall's pair, -2.5, as the cap
+  // came within 0.2, and read -1.5 'penetrating' once out of the top, apart by 0.5 (found by a
+  // helper's probe). The centre, not the boxes' bound: a shaft turning in place in a bore
+  // would be checked every few steps for nothing (67 times the time at 30 rad/s). A body
+  // turning about its centre is not rechecked (a stale pair there waits for the depth to grow).
   // (How far the bodies moved since the last check, where that is read.)
   const double moved_by = std::isfinite(m_deep_checked)
                               ? approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at,
                                                m_relative).closer
                               : HUGE_VAL;
-  const bool moved = std::isfinite(m_deep_checked) &&
-                     moved_by > (point ? step : against_sheet ? HUGE_VAL : 10.0 * step);
+  bool moved = point && std::isfinite(m_deep_checked) && moved_by > step;
+  if (!point && !against_sheet && std::isfinite(m_deep_checked)) {
+    const Bbox_3& bb = m_model_b->box();
+    const Vec3 centre(0.5 * (bb.xmin() + bb.xmax()), 0.5 * (bb.ymin() + bb.ymax()),
+                      0.5 * (bb.zmin() + bb.zmax()));
+    moved = (m_relative.apply_point(centre) - m_deep_at.apply_point(centre)).norm() > 10.0 * step;
+  }
   // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
   // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as
   // deep as the solid is wide along the pair's normal, so that its box lies past the sheet's

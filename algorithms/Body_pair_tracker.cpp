@@ -521,10 +521,10 @@ void Body_pair_tracker::step_live(int k) {
     bool holds;
     if (std::abs(L.result.distance) > m_options.contact_tolerance) {
       holds = true;
-      const int first = L.result.reference_is_b ? na : 0;
-      const int last = L.result.reference_is_b ? na + B.feature.dimension() : na;
-      for (int k = first; k < last && holds; ++k)
-        holds = std::abs(L.result.normalised_errors[k]) <= k_wandering_error;
+      const int ref_begin = L.result.reference_is_b ? na : 0;
+      const int ref_end = L.result.reference_is_b ? na + B.feature.dimension() : na;
+      for (int j = ref_begin; j < ref_end && holds; ++j)
+        holds = std::abs(L.result.normalised_errors[j]) <= k_wandering_error;
     } else {
       holds = L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole;
     }

@@ -616,7 +616,7 @@ TEST(BodyScenes, ABallThroughAnOpenShellNeverReadsApartWhileItCutsIt) {
     }
   }
   EXPECT_EQ(overlapping_apart, 0);
-  EXPECT_GE(apart_rows, 40);  // the ball's approach and its way out
+  EXPECT_GE(apart_rows, 40);  // the ball's approach
 }
 
 TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
