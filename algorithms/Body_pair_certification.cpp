@@ -155,9 +155,10 @@ bool Body_pair_tracker::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_po
   return seeded;
 }
 
-void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                       double best) {
   mark_tracked();
+  bool meet = false;
   const double tol = std::max(m_options.seeding.absolute_tolerance,
                               m_options.seeding.relative_tolerance * best);
   const double need_apart = best - tol;  // a pair certified at or above this holds nothing closer
@@ -360,7 +361,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     C.slack = g.element_a < 0 ? slack : 0.0;
     C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
-    if (g.upper_bound <= m_options.contact_tolerance) m_vacated_meet = true;
+    if (g.upper_bound <= m_options.contact_tolerance) meet = true;
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
@@ -373,6 +374,7 @@ void Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     seeded = true;
   }
   if (seeded) step_pending();
+  return meet;
 }
 
 const Rigid_pose_3& Body_pair_tracker::Motions::b(int k) {

@@ -205,13 +205,13 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     // bodies' own (two crossing rods: the thinner rod's witness only). Otherwise both must be.
     // An open sheet has no inside: only the witness on it is tested, inside the solid (a ball
     // cutting a plane: the plane's point under the ball's lowest), and two sheets that cross
-    // keep the hulls' depth, as `extremal distance --signed` reports it.
+    // keep the hulls' depth, as `extremal distance --signed` reports it. (Against a tracked
+    // depth both are solids: check_deep leaves sheets before it.)
     const bool test_a = closed(1), test_b = closed(0);
     const bool a_in_b = test_a && inside_body(HB, X_WB, fa.p);
     const bool b_in_a = test_b && inside_body(HA, X_WA, fb.p);
     const bool all_in = (a_in_b || !test_a) && (b_in_a || !test_b);
-    const bool one_in = a_in_b || b_in_a || (!test_a && !test_b);
-    if (against ? !one_in : !all_in) return false;
+    if (against ? !(a_in_b || b_in_a) : !all_in) return false;
   }
   keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
               h.kind_b, h.element_b, h.params_b);

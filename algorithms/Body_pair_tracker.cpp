@@ -518,16 +518,10 @@ void Body_pair_tracker::step_live(int k) {
   // regular system decides (surfaces crossing there, no contact); a singular one is a rim or
   // an edge touching the other surface, in contact (as1's rod on a plate's edge).
   if (L.result.normal_form && L.result.alignment_error > k_wandering_error) {
-    bool holds;
-    if (std::abs(L.result.distance) > m_options.contact_tolerance) {
-      holds = true;
-      const int ref_begin = L.result.reference_is_b ? na : 0;
-      const int ref_end = L.result.reference_is_b ? na + B.feature.dimension() : na;
-      for (int j = ref_begin; j < ref_end && holds; ++j)
-        holds = std::abs(L.result.normalised_errors[j]) <= k_wandering_error;
-    } else {
-      holds = L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole;
-    }
+    const bool holds =
+        std::abs(L.result.distance) > m_options.contact_tolerance
+            ? L.result.reference_error <= k_wandering_error
+            : L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole;
     if (!holds) L.valid = false;
   }
   if (L.result.normal_form && !L.behind_sheet && L.valid) L.through_contact = true;
@@ -844,7 +838,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   m_VA = &V_A;
   m_VB = &V_B;
   ++m_steps;
-  m_vacated_meet = m_apart_unheld = false;
+  m_apart_unheld = false;
   m_relative = X_WA.inverse() * X_WB;
   if (!m_started) {
     start(X_WA, X_WB);
@@ -880,11 +874,10 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       step_all();
     }
     if (best > m_options.contact_tolerance) {
-      check_vacated(X_WA, X_WB, best);
       // A pair certified to meet while every tracker read the bodies apart (the trackers on
       // its surfaces hold nothing): they are not apart. The whole pair is solved as one lost
       // (the hulls' depth where no tracker takes it), and a tracker reading apart is no answer.
-      if (m_vacated_meet) {
+      if (check_vacated(X_WA, X_WB, best)) {
         const Distance_result g = global_solve(X_WA, X_WB);
         if (seed_overlap(g, X_WA, X_WB, true)) ++r.reseeds;  // (keeps g, or the hulls' depth)
         step_all();

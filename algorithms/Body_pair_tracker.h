@@ -253,7 +253,8 @@ class Body_pair_tracker {
   // global elements and the pair is not a closed form (those always get a tracker).
   bool certifiable(int pa, int pb) const;
   // Seeds candidate pairs without a tracker that hold a pair closer than `best`.
-  void check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
+  // True if it certified a pair whose surfaces meet (the bodies are not apart after all).
+  bool check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
   // In contact (check_vacated does not run): seeds the candidate pairs without a tracker, each
   // once (entering pairs get none from the broad phase). Returns true if it seeded.
   bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
@@ -432,10 +433,9 @@ class Body_pair_tracker {
   signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;
   double m_deep_checked = HUGE_VAL;  // the tracked minimum at check_deep's last check
   Rigid_pose_3 m_deep_at;             // and X_AB there
-  // This step: check_vacated certified a candidate pair whose surfaces meet while every
-  // tracker read the bodies apart; and, after the solve that follows, still no tracker holds a
-  // depth or contact: the report is the solver's (m_solved).
-  bool m_vacated_meet = false, m_apart_unheld = false;
+  // This step's solve found the surfaces meeting (check_vacated, or a lost step's solve) and
+  // still no tracker holds a depth or contact: the report is the solver's (m_solved).
+  bool m_apart_unheld = false;
   bool m_meets_at_start = false;  // the start's solve found the surfaces crossing: this one,
   Distance_result m_start_solve;  // at this relative pose
   Rigid_pose_3 m_start_relative;

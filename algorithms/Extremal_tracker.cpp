@@ -388,8 +388,7 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
   r.projection_errors = m_system.projection;
   r.normalised_errors = normalised_projection_errors(m_system);
   r.normal_form = m_system.form != Formulation::Projection;
-  r.alignment_error = 0.0;
-  r.reference_is_b = m_system.form == Formulation::Normal_of_b;
+  r.alignment_error = r.reference_error = 0.0;
   if (r.normal_form) {
     // phi's rows on the side opposite the reference are n_R . t_j with n_R unit; a held
     // parameter keeps its residual, and a tangent that vanishes (a pole: its row is divided
@@ -397,6 +396,8 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
     const int na = m_a.dimension(), n = m_system.size();
     const bool ref_a = m_system.form == Formulation::Normal_of_a;
     const int first = ref_a ? na : 0, last = ref_a ? n : na;
+    for (int k = ref_a ? 0 : na; k < (ref_a ? na : n); ++k)
+      r.reference_error = std::max(r.reference_error, std::abs(r.normalised_errors[k]));
     const Vec3 normal = unit_normal(
         ref_a ? outward_direction(m_a, m_system.a, m_params.data(), m_system.outward_a)
               : outward_direction(m_b, m_system.b, m_params.data() + na, m_system.outward_b));

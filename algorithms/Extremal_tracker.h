@@ -75,7 +75,9 @@ struct Track_result {
   // zero once the normals are parallel); 0 in the projection form. Unlike the projection
   // errors it is defined at d = 0, where the normal form runs.
   double alignment_error = 0.0;
-  bool reference_is_b = false;  // in the normal form: B's normal is the reference, else A's
+  // In the normal form: the largest |normalised_errors| over the reference surface's own
+  // parameters (zero once d lies along its normal); 0 in the projection form.
+  double reference_error = 0.0;
 };
 
 class Extremal_tracker {
