@@ -507,20 +507,23 @@ void Body_pair_tracker::step_live(int k) {
   else if (first && L.seeded_apart && L.result.distance < -m_options.contact_tolerance &&
            (!closed(0) || !closed(1)))
     L.behind_sheet = true;
-  // A normal-form reading that satisfies neither half of its conditions holds no pair: its
-  // normals far from parallel, and d not along the reference normal. Seeded at a common point
-  // of surfaces that cross (a ball cutting a sheet), the normal form's residual has a local
-  // minimum there that is no solution, and the tracker sits on it (read -0.011 and +0.041 for
-  // a ball 0.7 deep in a plane). Through contact the corrections keep both to rounding. With d
-  // along the reference normal, the reading is the distance from that surface to a point of
-  // the other, and stays (as1's bolt shank against its hole's rim on the bracket's top face,
-  // normals perpendicular: -0.475, the interference). At d = 0, where d has no direction, a
-  // regular system decides (surfaces crossing there, no contact); a singular one is a rim or
-  // an edge touching the other surface, in contact (as1's rod on a plate's edge).
+  // A normal-form reading holds a pair only where its conditions do: the normals parallel, or
+  // (the other side held on an edge) d along the reference normal with the other witness the
+  // foot of d along its free parameters, the conditions of a pair on an edge. Seeded at a
+  // common point of surfaces that cross (a ball cutting a sheet), the normal form's residual
+  // has a local minimum there that is no solution, and the tracker sits on it (read -0.011 and
+  // +0.041 for a ball 0.7 deep in a plane). Through contact the corrections keep both to
+  // rounding. With d along the reference normal but across the other's face, no foot there,
+  // the reading is no pair: as1's bolt head seated flush on a bracket's flange, its rim at the
+  // flange's edge, read as a 0.475 interference, and a tilted peg's cap and side pressed into
+  // a plate read along their own normals (-4.8 for a rim 8 deep). At d = 0, where d has no
+  // direction, a regular system decides (surfaces crossing there, no contact); a singular one
+  // is a rim or an edge touching the other surface, in contact (as1's rod on a plate's edge).
   if (L.result.normal_form && L.result.alignment_error > k_wandering_error) {
     const bool holds =
         std::abs(L.result.distance) > m_options.contact_tolerance
-            ? L.result.reference_error <= k_wandering_error
+            ? L.result.reference_error <= k_wandering_error &&
+                  L.result.other_error <= k_wandering_error
             : L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole;
     if (!holds) L.valid = false;
   }
@@ -539,8 +542,8 @@ void Body_pair_tracker::step_live(int k) {
   // - a penetration pair's normals oppose each other. With them alike, the pair is no depth: a
   //   point of one surface inside the other body and its foot on the face it entered by (a ball
   //   that jumped deep into a box in one step). Open sheets keep it: a plane passed through its
-  //   copy is behind it. (as1's bolt shank against its hole's rim on the bracket's top face,
-  //   normals perpendicular: -0.475, an interference.)
+  //   copy is behind it. (A tilted peg's side held on its rim, pressed into a plate: normals
+  //   nearly perpendicular.)
   // - apart, d goes along A's normal (where A's sign is read) and against B's. With B's along
   //   it too, A's witness lies inside B: the bodies are nested, not apart (a ball inside a
   //   part's plate, its tracker gone over its pole onto the pair below it, read +17.8; found by

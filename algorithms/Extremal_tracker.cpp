@@ -168,11 +168,13 @@ Vec3 outward_direction(const Feature& f, const Feature_point& fp, const double* 
 }  // namespace
 
 double Extremal_tracker::signed_distance(unsigned on_edge, const Vec4& params) const {
-  // Inside when d points against the reference face's outward normal at an interior point of
-  // the face. On a face edge the normal says nothing about the solid (beside a cylinder's cap
-  // rim, say, d points below the cap's plane while the bodies are apart): positive there. At
-  // a pole (a collapsed edge, which is no edge of the face) the normal is the tangents'
-  // limit: a point entering a ball through its pole is inside.
+  // Inside when d points against a face's outward normal at an interior point of that face:
+  // A's, or B's where A's witness is on an edge of A. On a face edge the normal says nothing
+  // about the solid (beside a cylinder's cap rim, say, d points below the cap's plane while the
+  // bodies are apart); the other face's witness, off its edges, is the foot of d, so its normal
+  // does (a tilted peg's rim pressed into a plate read its depth as a gap). Both on edges:
+  // positive. At a pole (a collapsed edge, which is no edge of the face) the normal is the
+  // tangents' limit: a point entering a ball through its pole is inside.
   // The outward cross product stands for the unit normal (the sign is all that is read); one
   // whose squared length underflows or overflows has no direction, as the unit normal had none.
   const auto has_direction = [](const Vec3& m) {
@@ -181,9 +183,9 @@ double Extremal_tracker::signed_distance(unsigned on_edge, const Vec4& params) c
   };
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = m_system.distance;  // |ab| = |d|
-  if (m_a.dimension() == 2) {
+  if (m_a.dimension() == 2 && !(on_edge & 3u)) {
     const Vec3 m = outward_direction(m_a, m_system.a, params.data(), m_system.outward_a);
-    return ab.dot(m) < 0.0 && !(on_edge & 3u) && has_direction(m) ? -len : len;
+    return ab.dot(m) < 0.0 && has_direction(m) ? -len : len;
   }
   if (m_b.dimension() == 2) {
     const Vec3 m = outward_direction(m_b, m_system.b, params.data() + m_a.dimension(),
@@ -192,6 +194,43 @@ double Extremal_tracker::signed_distance(unsigned on_edge, const Vec4& params) c
                                                                                         : len;
   }
   return len;
+}
+
+unsigned Extremal_tracker::held_by_height(unsigned on_edge, unsigned lower,
+                                          const Vec4& params) const {
+  // Near contact and inside, the pair to hold is the witness of one side (the other's edge
+  // point, say) nearest to the tangent plane of the other, the reference R, or deepest behind
+  // it: the least height h = n_R . (p - q) over that side's points. Newton's step says nothing
+  // about whether a held parameter should leave its edge there: the normal form's row for it,
+  // n_R . t_k, cannot be zeroed on a flat face (a tilted cylinder's cap, its rim pressed into
+  // a plate), and inside, the projection form's pair is a saddle. The height's slope does say.
+  // (Newton let the rim go at random; the cap's interior then read its distance along the
+  // cap's normal, and the side's, the side's.) In the projection form the reference is the
+  // side with nothing held; apart there, the descent steps of the minimum decide.
+  if (!on_edge) return 0u;
+  const int na = m_a.dimension(), nb = m_b.dimension();
+  const unsigned mask_a = (1u << na) - 1u, held_a = on_edge & mask_a, held_b = on_edge >> na;
+  bool ref_a = m_system.form == Formulation::Normal_of_a;
+  if (m_system.form == Formulation::Projection) {
+    if (!(m_last_signed < 0.0) || (held_a && held_b)) return 0u;
+    ref_a = held_b != 0u;
+  }
+  if ((ref_a ? na : nb) != 2) return 0u;
+  const Vec3 n_r = ref_a ? outward_direction(m_a, m_system.a, params.data(), m_system.outward_a)
+                         : outward_direction(m_b, m_system.b, params.data() + na,
+                                             m_system.outward_b);
+  const int first = ref_a ? na : 0, last = ref_a ? na + nb : na;
+  // A slope within rounding of zero (an edge along the tangent plane: a roller's end on a
+  // floor) is left to Newton.
+  const double n_len = n_r.norm();
+  unsigned held = 0u;
+  for (int k = first; k < last; ++k) {
+    if (!(on_edge & (1u << k))) continue;
+    const double inward = (lower & (1u << k)) ? 1.0 : -1.0;
+    const double slope = inward * n_r.dot(m_system.tangent(k));
+    if (slope > 1e-6 * n_len * std::sqrt(m_system.tangent_length2[k])) held |= 1u << k;
+  }
+  return held;
 }
 
 Degeneracy Extremal_tracker::classify_singular() const {
@@ -249,14 +288,21 @@ void Extremal_tracker::control(const Vec4& params, const Rigid_pose_3& X_WA, con
   mode.damp_when_b_held = false;
   // Seek a minimum in the projection form while apart. The penetration pair is a saddle and
   // is tracked as such, but only once the pair is nearly converged: far from it the sign of
-  // the distance means nothing yet.
+  // the distance means nothing yet. A parameter held on an edge keeps its error (0.3 for a
+  // tilted cap's rim in a plate), which says nothing about how near the pair is.
+  auto far_from_pair = [&] {
+    const Vec4 e = normalised_projection_errors(m_system);
+    for (int k = 0; k < n; ++k)
+      if (!(on_bound & (1u << k)) && std::abs(e[k]) > 0.1) return true;
+    return false;
+  };
   mode.minimum = m_system.form == Formulation::Projection &&
-                 (m_last_signed >= 0.0 ||
-                  normalised_projection_errors(m_system).cwiseAbs().maxCoeff() > 0.1);
-  if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) {
+                 (m_last_signed >= 0.0 || far_from_pair());
+  const unsigned held = held_by_height(on_bound, lower, params);
+  if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode, held)) {
     degeneracy = classify_singular();
     mode.damped = true;
-    if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode)) U.setZero();
+    if (!solve_constrained(m_system.M, rhs, n, on_bound, lower, U, mode, held)) U.setZero();
   }
   double scale = 1.0;
   if ((U.cwiseAbs().array() > m_max_change.array()).any())  // rare: far from the pair
@@ -385,10 +431,25 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
   }
   if (r.normal == Vec3::Zero() && r.distance != 0.0)
     r.normal = (r.point_b - r.point_a) / r.distance;
+  if (r.normal == Vec3::Zero() && m_a.dimension() + m_b.dimension() > 0) {
+    // Curves meeting at d = 0 (a bolt head's inner rim on its hole's rim, both B-rep edges):
+    // no surface normal, no direction of d. A unit vector across both tangents stands for it.
+    const Vec3 ta = m_a.dimension() > 0 ? m_system.a.d[0] : Vec3::Zero();
+    const Vec3 tb = m_b.dimension() > 0 ? m_system.b.d[0] : Vec3::Zero();
+    Vec3 across = ta.cross(tb);
+    if (!(across.squaredNorm() > 1e-20 * ta.squaredNorm() * tb.squaredNorm()) ||
+        across == Vec3::Zero()) {
+      const Vec3 t = ta != Vec3::Zero() ? ta : tb;
+      int least = 0;  // the axis least along t
+      t.cwiseAbs().minCoeff(&least);
+      across = t.cross(Vec3::Unit(least));
+    }
+    if (across.allFinite() && across != Vec3::Zero()) r.normal = across.normalized();
+  }
   r.projection_errors = m_system.projection;
   r.normalised_errors = normalised_projection_errors(m_system);
   r.normal_form = m_system.form != Formulation::Projection;
-  r.alignment_error = r.reference_error = 0.0;
+  r.alignment_error = r.reference_error = r.other_error = 0.0;
   if (r.normal_form) {
     // phi's rows on the side opposite the reference are n_R . t_j with n_R unit; a held
     // parameter keeps its residual, and a tangent that vanishes (a pole: its row is divided
@@ -398,6 +459,7 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
     const int first = ref_a ? na : 0, last = ref_a ? n : na;
     for (int k = ref_a ? 0 : na; k < (ref_a ? na : n); ++k)
       r.reference_error = std::max(r.reference_error, std::abs(r.normalised_errors[k]));
+    const Vec3 ab = m_system.b.p - m_system.a.p;
     const Vec3 normal = unit_normal(
         ref_a ? outward_direction(m_a, m_system.a, m_params.data(), m_system.outward_a)
               : outward_direction(m_b, m_system.b, m_params.data() + na, m_system.outward_b));
@@ -407,6 +469,9 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
       if ((on_edge & (1u << k)) || !(len2 > 1e-16 * m_system.tangent_length2[other])) continue;
       r.alignment_error =
           std::max(r.alignment_error, std::abs(normal.dot(m_system.tangent(k))) / std::sqrt(len2));
+      if (m_system.distance > 0.0)
+        r.other_error = std::max(r.other_error, std::abs(ab.dot(m_system.tangent(k))) /
+                                                    (m_system.distance * std::sqrt(len2)));
     }
   }
 }

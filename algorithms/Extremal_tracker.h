@@ -78,6 +78,10 @@ struct Track_result {
   // In the normal form: the largest |normalised_errors| over the reference surface's own
   // parameters (zero once d lies along its normal); 0 in the projection form.
   double reference_error = 0.0;
+  // In the normal form: the largest |d . t_j| / (|d| |t_j|) over the free parameters of the
+  // side opposite the reference (zero once that side's witness is the foot of d there; a
+  // parameter held on an edge carries no such condition); 0 in the projection form or at d = 0.
+  double other_error = 0.0;
 };
 
 class Extremal_tracker {
@@ -121,6 +125,10 @@ class Extremal_tracker {
   // Signed |d| for the system last built, at `params`, whose edge_mask is `on_edge`.
   double signed_distance(unsigned on_edge, const Vec4& params) const;
   Degeneracy classify_singular() const;
+  // In the normal form, for the system last built at `params`: the held parameters (of
+  // `on_edge`, lower bounds in `lower`) of the side opposite the reference whose witness would
+  // rise above the reference's tangent plane if it moved off its edge.
+  unsigned held_by_height(unsigned on_edge, unsigned lower, const Vec4& params) const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;
   // In the normal form: moves parameters that sit on a pole just off it.

@@ -496,8 +496,8 @@ Solve_mode solve_mode_for(const Pair_system& s, bool minimum) {
 }
 
 bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
-                       unsigned lower_side, Vec4& x, const Solve_mode& mode) {
-  unsigned frozen = 0;
+                       unsigned lower_side, Vec4& x, const Solve_mode& mode, unsigned frozen) {
+  frozen &= on_bound;
   for (int pass = 0; pass <= n; ++pass) {
     if (!solve_masked(M, rhs, n, frozen, mode, x)) return false;
     unsigned push_out = 0;

@@ -123,8 +123,10 @@ Solve_mode solve_mode_for(const Pair_system& s, bool minimum = true);
 // whose solution would push it outward is frozen (x_k = 0) and the rest re-solved, so a pair on
 // an edge continues as the reduced problem. Returns false if the system is singular or the
 // answer not finite (x is then zero). `lower_side` bit k says the bound is the lower one.
+// Parameters in `frozen` (a subset of on_bound) are held whatever the solution says.
 bool solve_constrained(const Mat4& M, const Vec4& rhs, int n, unsigned on_bound,
-                       unsigned lower_side, Vec4& x, const Solve_mode& mode = {false, 0});
+                       unsigned lower_side, Vec4& x, const Solve_mode& mode = {false, 0},
+                       unsigned frozen = 0u);
 
 namespace internal {
 // solve_constrained's common case, exposed for its tests: seeking a minimum with nothing frozen

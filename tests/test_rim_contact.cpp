@@ -33,6 +33,64 @@ double lowest_above(const Vec3& base, double tilt, double top) {
   return base.z() - top + std::min(-rim, k_height * std::cos(tilt) - rim);
 }
 
+struct Pressed_run {
+  double worst = 0.0;  // largest |reported - exact|
+  int wrong_sign = 0;  // rows read apart while overlapping by more than `margin`, or the reverse
+};
+
+// The peg tilted by `tilt`, its base from 5 mm above the plane z = 200 (x = y = 100) down at
+// 5 mm/s for 2 s, 100 steps a second, against `plate` at rest.
+Pressed_run press(const Body& plate, const Rigid_pose_3& X_plate, double tilt) {
+  const Body peg = make_cylinder_body(k_radius, k_height);
+  Body_pair_tracker tracker(peg, plate);
+  const double dt = 0.01;
+  const Vec3 v(0.0, 0.0, -5.0);
+  Pressed_run out;
+  for (int i = 0; i <= 200; ++i) {
+    const double t = i * dt;
+    const Vec3 base = Vec3(100.0, 100.0, 205.0) + v * t;
+    const Pair_report& r =
+        tracker.step(t, peg_pose(base, tilt), Twist_3{v, Vec3::Zero()}, X_plate, Twist_3{}, dt);
+    EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
+    const double exact = lowest_above(base, tilt, 200.0);
+    out.worst = std::max(out.worst, std::abs(r.distance - exact));
+    if (std::abs(exact) > 1e-3 && (r.distance > 0.0) != (exact > 0.0)) ++out.wrong_sign;
+  }
+  return out;
+}
+
+// Into an open sheet: the side face's tracker, held on its bottom edge, read the distance along
+// the side's normal (-4.77 for a rim 7.96 deep), and so did the cap's from inside the cap, as
+// if d along the reference surface's normal made a pair; the plane's witness, off its edges,
+// was no foot of the other (its projection error 0.3). A pair holds only where every witness
+// off its edges is the foot of d.
+TEST(RimContact, ATiltedPegPressedIntoASheetReadsItsRimsDepth) {
+  const Body sheet = make_plane_body(400.0, 400.0);
+  const Rigid_pose_3 X_sheet(Mat3::Identity(), Vec3(100.0, 100.0, 200.0));
+  for (const double tilt : {0.05, 0.3}) {
+    const Pressed_run run = press(sheet, X_sheet, tilt);
+    EXPECT_LE(run.worst, 1e-8) << "tilt " << tilt;
+    EXPECT_EQ(run.wrong_sign, 0) << "tilt " << tilt;
+  }
+}
+
+// Into pr2ct's box (a 200 mm cube from a STEP file, its top at z = 200): Newton let the rim
+// go at random, the normal form's row for the held rim parameter being one no step can zero on a
+// flat cap, and the cap's interior then read along its own normal; deeper, the projection
+// form counted the rim parameter's error (0.3) as the pair being far, sought a minimum and slid
+// off the deepest rim point. Rows read up to 10.7 off (tilt 1), or apart by 0.8 with the rim
+// 5.1 deep (the cap's rim point above the face).
+TEST(RimContact, ATiltedPegPressedIntoABoxReadsItsRimsDepth) {
+  const io::Model m = io::read_model(shared_data("step/pr2ct.stp"));
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Body& box = m.bodies[0];
+  for (const double tilt : {0.05, 0.3, 1.0}) {
+    const Pressed_run run = press(box, box.placement, tilt);
+    EXPECT_LE(run.worst, 1e-8) << "tilt " << tilt;
+    EXPECT_EQ(run.wrong_sign, 0) << "tilt " << tilt;
+  }
+}
+
 // The one-shot solver's common-point search started on the rim: its minimum-norm step pushed
 // the cap's radius past the rim, and clamped there it stalled. The bodies read 7e-11 apart,
 // 'converged' and certified, with the rim 5.1 deep.
@@ -47,6 +105,33 @@ TEST(RimContact, TheOneShotSolverSeesARimCrossingAFace) {
     EXPECT_TRUE(r.is_certified()) << "z = " << z;
     EXPECT_EQ(r.overlap, Overlap_kind::Surfaces_meet) << "z = " << z;
     EXPECT_NEAR(r.distance, lowest_above(base, 0.3, 200.0), 1e-8) << "z = " << z;
+  }
+}
+
+// as1 (an assembly of 18 solids): a bolt's round head seated on a bracket's flange, its rim
+// at the flange's edge, and a nut seated under the plate. The tracker's normal form held the
+// head's rim point and a point of the flange 0.475 from it, d along the head's normal and across
+// the flange's face (no foot there): read as a 0.475 interference, and 0.025 for the nut. The
+// parts touch, flush.
+TEST(RimContact, PartsSeatedFlushInAnAssemblyTouchWithoutInterference) {
+  const io::Model m = io::read_model(shared_data("step/as1-oc-214-mat.stp"));
+  auto body = [&](const char* name) -> const Body& {
+    for (const Body& b : m.bodies)
+      if (b.name == name) return b;
+    ADD_FAILURE() << "no body " << name;
+    return m.bodies.front();
+  };
+  struct Seated {
+    const char *a, *b;
+  };
+  for (const Seated s : {Seated{"bolt_1#3", "l-bracket_1#1"}, Seated{"nut_3#2", "plate_1"},
+                         Seated{"bolt_1#4", "l-bracket_1#2"}}) {
+    const Body &a = body(s.a), &b = body(s.b);
+    Body_pair_tracker tracker(a, b);
+    const Pair_report& r = tracker.step(0.0, a.placement, Twist_3{}, b.placement, Twist_3{}, 1e-3);
+    EXPECT_LE(std::abs(r.distance), 1e-6) << s.a << " on " << s.b;
+    EXPECT_EQ(r.status, Pair_status::Contact) << s.a << " on " << s.b;
+    EXPECT_NEAR(r.normal.norm(), 1.0, 1e-9) << s.a << " on " << s.b;
   }
 }
 
