@@ -175,7 +175,12 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   if (against) request.relative_tolerance = std::max(request.relative_tolerance, 1e-3);
   const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
-  if (!((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
+  // Hulls deeper than every tracked pair: where the surfaces meet and the hulls' pair is one
+  // of the bodies' own (below), it is a depth no tracker saw arise (a cylinder tumbling on a
+  // box, its far rim now the deeper: it read -9.1 against -25.7).
+  const bool missed =
+      against && meet && h.upper_bound < deeper - depth_tolerance(h.distance);
+  if (!missed && !((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
     return false;  // a tracker holds it already
   // Should no tracker hold a pair, the hulls' depth is the answer reported (as `extremal
   // distance --signed` gives it), not the meeting surfaces' zero ('contact' for a ball deep in
@@ -200,9 +205,10 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     Feature_point fa, fb;
     evaluate_feature(A.feature, X_WA, params.data(), fa, 0);
     evaluate_feature(B.feature, X_WB, params.data() + A.feature.dimension(), fb, 0);
-    // Against a tracked depth (deeper than the hulls', which bound the bodies' translation
+    // Against a tracked depth deeper than the hulls' (which bound the bodies' translation
     // distance: a stale pair), one witness inside the other body makes the pair one of the
-    // bodies' own (two crossing rods: the thinner rod's witness only). Otherwise both must be.
+    // bodies' own (two crossing rods: the thinner rod's witness only). Otherwise, and for hulls
+    // deeper than the tracked depth, both must be.
     // An open sheet has no inside: only the witness on it is tested, inside the solid (a ball
     // cutting a plane: the plane's point under the ball's lowest), and two sheets that cross
     // keep the hulls' depth, as `extremal distance --signed` reports it. (Against a tracked
@@ -211,11 +217,20 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     const bool a_in_b = test_a && inside_body(HB, X_WB, fa.p);
     const bool b_in_a = test_b && inside_body(HA, X_WA, fb.p);
     const bool all_in = (a_in_b || !test_a) && (b_in_a || !test_b);
-    if (against ? !(a_in_b || b_in_a) : !all_in) return false;
+    if (against && !missed ? !(a_in_b || b_in_a) : !all_in) return false;
   }
   keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
               h.kind_b, h.element_b, h.params_b);
-  add_inside(pa, pb, params, X_WA, X_WB);
+  // A converged tracker on the same faces holds another local pair: the hulls' pair gets a
+  // tracker beside it, not that one moved there (a ball in the cornetta's plate: its local
+  // -0.38 was lost to a seed that never converged, and the rows read the hulls' -0.81; a
+  // cylinder's side tumbling on a box: its far rim is the deeper).
+  if (missed && tracks_converged(pa, pb)) {
+    m_live[add_live(pa, pb, params)].through_contact = true;
+    ++m_report.seeds;
+  } else {
+    add_inside(pa, pb, params, X_WA, X_WB);
+  }
   return true;
 }
 

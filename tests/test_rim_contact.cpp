@@ -108,6 +108,39 @@ TEST(RimContact, TheOneShotSolverSeesARimCrossingAFace) {
   }
 }
 
+// Tumbling on the box about its base centre, the base first flush on the top face: the
+// bottom rim's depth grows to 10 at a quarter turn, then the far rim enters and goes deeper
+// (25.7 at 2 rad). The tracker on the bottom rim kept it, -9.1: the hulls' depth, deeper than
+// every tracked pair, with each witness inside the other body, is a pair of the bodies' own
+// that no tracker saw arise, and gets one. Between the checks (each time the box's centre has
+// moved a tenth of the peg's size relative to it) a new rim can go unseen for a few steps.
+TEST(RimContact, APegTumblingOnABoxReadsItsFarRimOnceItIsTheDeeper) {
+  const io::Model m = io::read_model(shared_data("step/pr2ct.stp"));
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Body& box = m.bodies[0];
+  const Body peg = make_cylinder_body(k_radius, k_height);
+  Body_pair_tracker tracker(peg, box);
+  const double dt = 0.01, spin = 1.0;
+  const Vec3 base(100.0, 100.0, 200.0);
+  double worst_late = 0.0, worst = 0.0;
+  int wrong_sign = 0;
+  for (int i = 0; i <= 200; ++i) {
+    const double t = i * dt;
+    const Pair_report& r = tracker.step(t, peg_pose(base, spin * t),
+                                        Twist_3{Vec3::Zero(), Vec3(spin, 0.0, 0.0)}, box.placement,
+                                        Twist_3{}, dt);
+    EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
+    const double exact = std::min(0.0, lowest_above(base, spin * t, 200.0));
+    const double error = std::abs(r.distance - exact);
+    worst = std::max(worst, error);
+    if (t >= 1.7) worst_late = std::max(worst_late, error);
+    if (exact < -1e-3 && r.distance > 0.0) ++wrong_sign;
+  }
+  EXPECT_LE(worst_late, 1e-6);
+  EXPECT_LE(worst, 2.0);  // the far rim, unseen for at most five steps at 0.4 a step
+  EXPECT_EQ(wrong_sign, 0);
+}
+
 // as1 (an assembly of 18 solids): a bolt's round head seated on a bracket's flange, its rim
 // at the flange's edge, and a nut seated under the plate. The tracker's normal form held the
 // head's rim point and a point of the flange 0.475 from it, d along the head's normal and across
