@@ -10,6 +10,7 @@
 #include <string>
 
 #include "algorithms/Body_pair_tracker.h"
+#include "algorithms/Distance_hierarchy.h"
 #include "algorithms/Penetration_depth.h"
 #include "io/Model_reader.h"
 #include "kernel/Shapes.h"
@@ -166,6 +167,28 @@ TEST(RimContact, PartsSeatedFlushInAnAssemblyTouchWithoutInterference) {
     EXPECT_EQ(r.status, Pair_status::Contact) << s.a << " on " << s.b;
     EXPECT_NEAR(r.normal.norm(), 1.0, 1e-9) << s.a << " on " << s.b;
   }
+  // The truth, independently: no point of the bolt's faces (sampled on an 8 x 8 grid of each)
+  // lies inside the bracket, whose hole fits the shank (radius 5, axis at x = 47.5, y = 87.99).
+  const Body &bolt = body("bolt_1#3"), &bracket = body("l-bracket_1#1");
+  const Distance_hierarchy H(bracket);
+  int sampled = 0, inside = 0;
+  for (const Face& f : bolt.faces)
+    for (int i = 0; i < 8; ++i)
+      for (int j = 0; j < 8; ++j) {
+        const Nurbs_surface_3& s = f.surface;
+        const double u = s.u_min() + (s.u_max() - s.u_min()) * i / 7.0;
+        const double v = s.v_min() + (s.v_max() - s.v_min()) * j / 7.0;
+        if (!f.contains(u, v)) continue;
+        const Point_3 p = s.point(u, v);
+        ++sampled;
+        if (inside_body(H, bracket.placement, bolt.placement.apply_point(Vec3(p.x(), p.y(), p.z()))))
+          ++inside;
+      }
+  EXPECT_GT(sampled, 200);
+  EXPECT_EQ(inside, 0);
+  const double axis_x = 47.5, axis_y = 87.990381, z = 25.0;  // in the flange, round the hole
+  EXPECT_FALSE(inside_body(H, bracket.placement, Vec3(axis_x + 4.9, axis_y, z)));
+  EXPECT_TRUE(inside_body(H, bracket.placement, Vec3(axis_x + 5.1, axis_y, z)));
 }
 
 }  // namespace
