@@ -148,6 +148,12 @@ void Body_pair_tracker::kill(int k) {
 
 namespace {
 
+// Whether a surface primitive's parameters q lie on its trim's boundary band (a B-rep edge).
+bool on_trim_boundary(const Primitive& P, const double* q) {
+  return P.is_surface() && P.trim != nullptr &&
+         P.trim->locate(q[0], q[1]) == Trim_location::On_boundary;
+}
+
 // Sampled closest pair of two features, polished by Newton at rest (pairs the global solver
 // has no element for: mesh edges).
 Vec4 sampled_seed(const Feature& A, const Rigid_pose_3& X_WA, const Feature& B,
@@ -518,13 +524,19 @@ void Body_pair_tracker::step_live(int k) {
   // flange's edge, read as a 0.475 interference, and a tilted peg's cap and side pressed into
   // a plate read along their own normals (-4.8 for a rim 8 deep). At d = 0, where d has no
   // direction, a regular system decides (surfaces crossing there, no contact); a singular one
-  // is a rim or an edge touching the other surface, in contact (as1's rod on a plate's edge).
+  // is a rim or an edge touching the other surface, in contact (as1's rod on a plate's edge),
+  // where a witness is on an edge (of its patch or its trim) or a curve: two faces' interior
+  // points are a crossing (a tilted peg's cap through a sheet's border read 0 'contact' 1.6
+  // deep).
   if (L.result.normal_form && L.result.alignment_error > k_wandering_error) {
     const bool holds =
         std::abs(L.result.distance) > m_options.contact_tolerance
             ? L.result.reference_error <= k_wandering_error &&
                   L.result.other_error <= k_wandering_error
-            : L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole;
+            : L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole &&
+                  (L.result.on_edge != 0u || !A.is_surface() || !B.is_surface() ||
+                   on_trim_boundary(A, L.result.params.data()) ||
+                   on_trim_boundary(B, L.result.params.data() + 2));
     if (!holds) L.valid = false;
   }
   if (L.result.normal_form && !L.behind_sheet && L.valid) L.through_contact = true;

@@ -405,6 +405,7 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
   r.point_a = m_system.a.p;
   r.point_b = m_system.b.p;
   r.distance = signed_dist;
+  r.on_edge = on_edge;
   // At contact, and so close that d's direction is its rounding and the tracker's residual (a
   // ball rolling on a plane read horizontal normals), the normal is a surface's: A's outward
   // one, else minus B's, from a side not held on a patch edge (its normal is not the pair's

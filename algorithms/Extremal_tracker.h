@@ -82,6 +82,7 @@ struct Track_result {
   // side opposite the reference (zero once that side's witness is the foot of d there; a
   // parameter held on an edge carries no such condition); 0 in the projection form or at d = 0.
   double other_error = 0.0;
+  unsigned on_edge = 0u;  // bit k: parameter k on a patch edge (poles excluded)
 };
 
 class Extremal_tracker {

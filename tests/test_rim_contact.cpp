@@ -109,6 +109,35 @@ TEST(RimContact, TheOneShotSolverSeesARimCrossingAFace) {
   }
 }
 
+// The peg tilted 0.4 rad about y, its base centre 2 mm inside a sheet's border (x = 100), down
+// at 3 mm/s through the sheet: its cap's tracker sat where the cap crosses the sheet, d = 0 with
+// the normals 0.39 rad apart, and read 'contact' while 0.02 to 1.6 deep (30 rows). At d = 0 a
+// singular system is a touching edge only where a witness is on an edge; two faces' interior
+// points there are a crossing. Every row against the certified signed distance.
+TEST(RimContact, ATiltedPegThroughASheetsBorderReadsItsDepth) {
+  const Body peg = make_cylinder_body(k_radius, k_height), sheet = make_plane_body(200.0, 200.0);
+  const Mat3 tilt = Eigen::AngleAxisd(0.4, Vec3::UnitY()).toRotationMatrix();
+  Body_pair_tracker tracker(peg, sheet);
+  const double dt = 0.02;
+  const Vec3 v(0.0, 0.0, -3.0);
+  double worst = 0.0;
+  int compared = 0;
+  for (int i = 0; i <= 100; ++i) {
+    const double t = i * dt;
+    const Rigid_pose_3 X_peg(tilt, Vec3(98.0, 0.0, 4.0) + v * t);
+    const Pair_report& r =
+        tracker.step(t, X_peg, Twist_3{v, Vec3::Zero()}, Rigid_pose_3(), Twist_3{}, dt);
+    ASSERT_TRUE(std::isfinite(r.distance)) << "t = " << t;
+    if (t < 0.9 || i % 2 != 0) continue;  // the crossing starts near t = 1.05
+    const Signed_distance_result e = signed_distance(peg, X_peg, sheet, Rigid_pose_3());
+    ASSERT_TRUE(e.is_certified()) << "t = " << t;
+    worst = std::max(worst, std::abs(r.distance - e.distance));
+    ++compared;
+  }
+  EXPECT_GT(compared, 20);
+  EXPECT_LE(worst, 1e-6);
+}
+
 // Tumbling on the box about its base centre, the base first flush on the top face: the
 // bottom rim's depth grows to 10 at a quarter turn, then the far rim enters and goes deeper
 // (25.7 at 2 rad). The tracker on the bottom rim kept it, -9.1: the hulls' depth, deeper than
