@@ -215,7 +215,10 @@ unsigned Extremal_tracker::held_by_height(unsigned on_edge, unsigned lower,
     if (!(m_last_signed < 0.0) || (held_a && held_b)) return 0u;
     ref_a = held_b != 0u;
   }
-  if ((ref_a ? na : nb) != 2) return 0u;
+  // A reference witness at a pole stands for the pair's direction only in the limit: a tilted
+  // peg's rim held on a small ball's top kept the ball's witness on its pole, 2.6 times too
+  // deep. Newton decides there, as before.
+  if ((ref_a ? na : nb) != 2 || near_pole(ref_a ? 0 : 1, params, k_near_pole_fraction)) return 0u;
   const Vec3 n_r = ref_a ? outward_direction(m_a, m_system.a, params.data(), m_system.outward_a)
                          : outward_direction(m_b, m_system.b, params.data() + na,
                                              m_system.outward_b);

@@ -138,6 +138,34 @@ TEST(RimContact, ATiltedPegThroughASheetsBorderReadsItsDepth) {
   EXPECT_LE(worst, 1e-6);
 }
 
+// A peg of radius 0.01 tilted 0.5 rad, its rim pressed onto the top of a ball of radius 0.025,
+// near the ball's pole: holding the rim by the height over the ball's tangent plane there (the
+// pole's limit normal) kept the ball's witness on its pole, up to 2.6 times too deep (28 rows).
+// Past the first two rows of the contact every row checked is the certified signed distance.
+TEST(RimContact, ATiltedPegsRimOnASmallBallsPoleReadsItsDepth) {
+  const Body peg = make_cylinder_body(0.01, 0.04), ball = make_sphere_body(0.025);
+  const Mat3 tilt = Eigen::AngleAxisd(0.5, Vec3::UnitX()).toRotationMatrix();
+  Body_pair_tracker tracker(peg, ball);
+  const double dt = 0.02;
+  const Vec3 v(0.0, 0.0, -0.005);
+  double worst = 0.0;
+  int compared = 0;
+  for (int i = 0; i <= 100; ++i) {
+    const double t = i * dt;
+    const Rigid_pose_3 X_peg(tilt, Vec3(0.0, 0.009, 0.033) + v * t);
+    const Pair_report& r =
+        tracker.step(t, X_peg, Twist_3{v, Vec3::Zero()}, Rigid_pose_3(), Twist_3{}, dt);
+    ASSERT_TRUE(std::isfinite(r.distance)) << "t = " << t;
+    if (t < 0.7 || i % 3 != 0) continue;  // contact near t = 0.65
+    const Signed_distance_result e = signed_distance(peg, X_peg, ball, Rigid_pose_3());
+    ASSERT_TRUE(e.is_certified()) << "t = " << t;
+    worst = std::max(worst, std::abs(r.distance - e.distance) / 0.025);
+    ++compared;
+  }
+  EXPECT_GT(compared, 15);
+  EXPECT_LE(worst, 1e-7);  // relative to the ball's radius
+}
+
 // Tumbling on the box about its base centre, the base first flush on the top face: the
 // bottom rim's depth grows to 10 at a quarter turn, then the far rim enters and goes deeper
 // (25.7 at 2 rad). The tracker on the bottom rim kept it, -9.1: the hulls' depth, deeper than
