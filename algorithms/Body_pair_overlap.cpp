@@ -175,9 +175,11 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   if (against) request.relative_tolerance = std::max(request.relative_tolerance, 1e-3);
   const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
-  // Hulls deeper than every tracked pair: where the surfaces meet and the hulls' pair is one
-  // of the bodies' own (below), it is a depth no tracker saw arise (a cylinder tumbling on a
-  // box, its far rim now the deeper: it read -9.1 against -25.7).
+  // Hulls deeper than every tracked pair, where the surfaces meet: its pair, when each witness
+  // lies inside the other body (below), may be a depth no tracker saw arise (a cylinder
+  // tumbling on a box, its far rim now the deeper: it read -9.1 against -25.7). Its tracker
+  // shows whether it is: inside non-convex bodies the test passes pairs that are none, whose
+  // seeds converge elsewhere or merge away.
   const bool missed =
       against && meet && h.upper_bound < deeper - depth_tolerance(h.distance);
   if (!missed && !((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
@@ -338,10 +340,17 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
                               : HUGE_VAL;
   bool moved = point && std::isfinite(m_deep_checked) && moved_by > step;
   if (!point && !against_sheet && std::isfinite(m_deep_checked)) {
-    const Bbox_3& bb = m_model_b->box();
-    const Vec3 centre(0.5 * (bb.xmin() + bb.xmax()), 0.5 * (bb.ymin() + bb.ymax()),
-                      0.5 * (bb.zmin() + bb.zmax()));
-    moved = (m_relative.apply_point(centre) - m_deep_at.apply_point(centre)).norm() > 10.0 * step;
+    // Either body's centre, seen from the other, so that the order of the pair does not matter
+    // (a peg tumbling on a box: the box's centre moves five times as far in the peg's frame).
+    auto centre = [](const Bbox_3& bb) {
+      return Vec3(0.5 * (bb.xmin() + bb.xmax()), 0.5 * (bb.ymin() + bb.ymax()),
+                  0.5 * (bb.zmin() + bb.zmax()));
+    };
+    const Vec3 cb = centre(m_model_b->box()), ca = centre(m_model_a->box());
+    const double b_moved = (m_relative.apply_point(cb) - m_deep_at.apply_point(cb)).norm();
+    const double a_moved =
+        (m_relative.inverse().apply_point(ca) - m_deep_at.inverse().apply_point(ca)).norm();
+    moved = std::max(a_moved, b_moved) > 10.0 * step;
   }
   // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
   // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as

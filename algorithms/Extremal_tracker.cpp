@@ -436,8 +436,8 @@ void Extremal_tracker::fill_result(double t, double signed_dist, unsigned on_edg
   if (r.normal == Vec3::Zero() && r.distance != 0.0)
     r.normal = (r.point_b - r.point_a) / r.distance;
   if (r.normal == Vec3::Zero() && m_a.dimension() + m_b.dimension() > 0) {
-    // Curves meeting at d = 0 (a bolt head's inner rim on its hole's rim, both B-rep edges):
-    // no surface normal, no direction of d. A unit vector across both tangents stands for it.
+    // No normal yet: d = 0 and no surface normal (curves meeting, a bolt head's inner rim on its
+    // hole's rim, both B-rep edges). A unit vector across both first tangents stands for it.
     const Vec3 ta = m_a.dimension() > 0 ? m_system.a.d[0] : Vec3::Zero();
     const Vec3 tb = m_b.dimension() > 0 ? m_system.b.d[0] : Vec3::Zero();
     Vec3 across = ta.cross(tb);

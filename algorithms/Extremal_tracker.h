@@ -126,9 +126,9 @@ class Extremal_tracker {
   // Signed |d| for the system last built, at `params`, whose edge_mask is `on_edge`.
   double signed_distance(unsigned on_edge, const Vec4& params) const;
   Degeneracy classify_singular() const;
-  // In the normal form, for the system last built at `params`: the held parameters (of
-  // `on_edge`, lower bounds in `lower`) of the side opposite the reference whose witness would
-  // rise above the reference's tangent plane if it moved off its edge.
+  // For the system last built at `params`, in the normal form or inside in the projection
+  // form: the held parameters (of `on_edge`, lower bounds in `lower`) of the side opposite the
+  // reference whose witness would rise above the reference's tangent plane off its edge.
   unsigned held_by_height(unsigned on_edge, unsigned lower, const Vec4& params) const;
   // A parameter that crossed a collapsed edge (a pole) continues on the other side of it.
   void cross_poles(Vec4& x) const;

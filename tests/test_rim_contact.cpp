@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 #include "algorithms/Body_pair_tracker.h"
@@ -34,45 +35,40 @@ double lowest_above(const Vec3& base, double tilt, double top) {
   return base.z() - top + std::min(-rim, k_height * std::cos(tilt) - rim);
 }
 
-struct Pressed_run {
-  double worst = 0.0;  // largest |reported - exact|
-  int wrong_sign = 0;  // rows read apart while overlapping by more than `margin`, or the reverse
-};
-
-// The peg tilted by `tilt`, its base from 5 mm above the plane z = 200 (x = y = 100) down at
-// 5 mm/s for 2 s, 100 steps a second, against `plate` at rest.
-Pressed_run press(const Body& plate, const Rigid_pose_3& X_plate, double tilt) {
+// The peg tilted by each of `tilts`, its base from 5 mm above the plane z = 200 (x = y = 100)
+// down at 5 mm/s for 2 s, 100 steps a second, against `plate` at rest: every row is the rim's
+// lowest point below the plane, never of the wrong sign.
+void expect_rim_depth(const Body& plate, const Rigid_pose_3& X_plate,
+                      std::initializer_list<double> tilts) {
   const Body peg = make_cylinder_body(k_radius, k_height);
-  Body_pair_tracker tracker(peg, plate);
   const double dt = 0.01;
   const Vec3 v(0.0, 0.0, -5.0);
-  Pressed_run out;
-  for (int i = 0; i <= 200; ++i) {
-    const double t = i * dt;
-    const Vec3 base = Vec3(100.0, 100.0, 205.0) + v * t;
-    const Pair_report& r =
-        tracker.step(t, peg_pose(base, tilt), Twist_3{v, Vec3::Zero()}, X_plate, Twist_3{}, dt);
-    EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
-    const double exact = lowest_above(base, tilt, 200.0);
-    out.worst = std::max(out.worst, std::abs(r.distance - exact));
-    if (std::abs(exact) > 1e-3 && (r.distance > 0.0) != (exact > 0.0)) ++out.wrong_sign;
+  for (const double tilt : tilts) {
+    Body_pair_tracker tracker(peg, plate);
+    double worst = 0.0;  // largest |reported - exact|
+    int wrong_sign = 0;  // rows read apart while overlapping by more than 1e-3, or the reverse
+    for (int i = 0; i <= 200; ++i) {
+      const double t = i * dt;
+      const Vec3 base = Vec3(100.0, 100.0, 205.0) + v * t;
+      const Pair_report& r =
+          tracker.step(t, peg_pose(base, tilt), Twist_3{v, Vec3::Zero()}, X_plate, Twist_3{}, dt);
+      EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
+      const double exact = lowest_above(base, tilt, 200.0);
+      worst = std::max(worst, std::abs(r.distance - exact));
+      if (std::abs(exact) > 1e-3 && (r.distance > 0.0) != (exact > 0.0)) ++wrong_sign;
+    }
+    EXPECT_LE(worst, 1e-8) << "tilt " << tilt;
+    EXPECT_EQ(wrong_sign, 0) << "tilt " << tilt;
   }
-  return out;
 }
 
-// Into an open sheet: the side face's tracker, held on its bottom edge, read the distance along
-// the side's normal (-4.77 for a rim 7.96 deep), and so did the cap's from inside the cap, as
-// if d along the reference surface's normal made a pair; the plane's witness, off its edges,
-// was no foot of the other (its projection error 0.3). A pair holds only where every witness
-// off its edges is the foot of d.
+// Into an open sheet: with the cap's rim held on its edge, the pair's sign was read from the
+// cap's normal, which says nothing there, and the depth read as a gap; the side's and the cap's
+// trackers off the rim read along their own normals (-4.77 for a rim 7.96 deep). The sign of a
+// pair held on A's edge is B's normal's, whose witness is the foot of d.
 TEST(RimContact, ATiltedPegPressedIntoASheetReadsItsRimsDepth) {
   const Body sheet = make_plane_body(400.0, 400.0);
-  const Rigid_pose_3 X_sheet(Mat3::Identity(), Vec3(100.0, 100.0, 200.0));
-  for (const double tilt : {0.05, 0.3}) {
-    const Pressed_run run = press(sheet, X_sheet, tilt);
-    EXPECT_LE(run.worst, 1e-8) << "tilt " << tilt;
-    EXPECT_EQ(run.wrong_sign, 0) << "tilt " << tilt;
-  }
+  expect_rim_depth(sheet, Rigid_pose_3(Mat3::Identity(), Vec3(100.0, 100.0, 200.0)), {0.05, 0.3});
 }
 
 // Into pr2ct's box (a 200 mm cube from a STEP file, its top at z = 200): Newton let the rim
@@ -84,12 +80,7 @@ TEST(RimContact, ATiltedPegPressedIntoASheetReadsItsRimsDepth) {
 TEST(RimContact, ATiltedPegPressedIntoABoxReadsItsRimsDepth) {
   const io::Model m = io::read_model(shared_data("step/pr2ct.stp"));
   ASSERT_EQ(m.bodies.size(), 1u);
-  const Body& box = m.bodies[0];
-  for (const double tilt : {0.05, 0.3, 1.0}) {
-    const Pressed_run run = press(box, box.placement, tilt);
-    EXPECT_LE(run.worst, 1e-8) << "tilt " << tilt;
-    EXPECT_EQ(run.wrong_sign, 0) << "tilt " << tilt;
-  }
+  expect_rim_depth(m.bodies[0], m.bodies[0].placement, {0.05, 0.3, 1.0});
 }
 
 // The one-shot solver's common-point search started on the rim: its minimum-norm step pushed
@@ -177,26 +168,33 @@ TEST(RimContact, APegTumblingOnABoxReadsItsFarRimOnceItIsTheDeeper) {
   ASSERT_EQ(m.bodies.size(), 1u);
   const Body& box = m.bodies[0];
   const Body peg = make_cylinder_body(k_radius, k_height);
-  Body_pair_tracker tracker(peg, box);
   const double dt = 0.01, spin = 1.0;
   const Vec3 base(100.0, 100.0, 200.0);
-  double worst_late = 0.0, worst = 0.0;
-  int wrong_sign = 0;
-  for (int i = 0; i <= 200; ++i) {
-    const double t = i * dt;
-    const Pair_report& r = tracker.step(t, peg_pose(base, spin * t),
-                                        Twist_3{Vec3::Zero(), Vec3(spin, 0.0, 0.0)}, box.placement,
-                                        Twist_3{}, dt);
-    EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
-    const double exact = std::min(0.0, lowest_above(base, spin * t, 200.0));
-    const double error = std::abs(r.distance - exact);
-    worst = std::max(worst, error);
-    if (t >= 1.7) worst_late = std::max(worst_late, error);
-    if (exact < -1e-3 && r.distance > 0.0) ++wrong_sign;
+  // Either order: the check reads either body's centre as seen from the other (with only the
+  // box's centre in the peg's frame, the box first left the far rim unseen 20 steps, 7.9 off).
+  for (const bool peg_first : {true, false}) {
+    Body_pair_tracker tracker(peg_first ? peg : box, peg_first ? box : peg);
+    double worst_late = 0.0, worst = 0.0;
+    int wrong_sign = 0;
+    for (int i = 0; i <= 200; ++i) {
+      const double t = i * dt;
+      const Rigid_pose_3 X_peg = peg_pose(base, spin * t);
+      const Twist_3 V_peg{Vec3::Zero(), Vec3(spin, 0.0, 0.0)};
+      const Pair_report& r =
+          peg_first ? tracker.step(t, X_peg, V_peg, box.placement, Twist_3{}, dt)
+                    : tracker.step(t, box.placement, Twist_3{}, X_peg, V_peg, dt);
+      EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
+      const double exact = std::min(0.0, lowest_above(base, spin * t, 200.0));
+      const double error = std::abs(r.distance - exact);
+      worst = std::max(worst, error);
+      if (t >= 1.7) worst_late = std::max(worst_late, error);
+      if (exact < -1e-3 && r.distance > 0.0) ++wrong_sign;
+    }
+    EXPECT_LE(worst_late, 1e-6) << (peg_first ? "peg first" : "box first");
+    // The far rim, unseen for at most five steps at 0.4 a step.
+    EXPECT_LE(worst, 2.0) << (peg_first ? "peg first" : "box first");
+    EXPECT_EQ(wrong_sign, 0) << (peg_first ? "peg first" : "box first");
   }
-  EXPECT_LE(worst_late, 1e-6);
-  EXPECT_LE(worst, 2.0);  // the far rim, unseen for at most five steps at 0.4 a step
-  EXPECT_EQ(wrong_sign, 0);
 }
 
 // as1 (an assembly of 18 solids): a bolt's round head seated on a bracket's flange, its rim
