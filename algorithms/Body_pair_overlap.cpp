@@ -342,11 +342,7 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   if (!point && !against_sheet && std::isfinite(m_deep_checked)) {
     // Either body's centre, seen from the other, so that the order of the pair does not matter
     // (a peg tumbling on a box: the box's centre moves five times as far in the peg's frame).
-    auto centre = [](const Bbox_3& bb) {
-      return Vec3(0.5 * (bb.xmin() + bb.xmax()), 0.5 * (bb.ymin() + bb.ymax()),
-                  0.5 * (bb.zmin() + bb.zmax()));
-    };
-    const Vec3 cb = centre(m_model_b->box()), ca = centre(m_model_a->box());
+    const Vec3 cb = box_centre(m_model_b->box()), ca = box_centre(m_model_a->box());
     const double b_moved = (m_relative.apply_point(cb) - m_deep_at.apply_point(cb)).norm();
     const double a_moved =
         (m_relative.inverse().apply_point(ca) - m_deep_at.inverse().apply_point(ca)).norm();

@@ -66,11 +66,6 @@ Bbox_3 box_of(const Eigen::Vector4d* h, int n) {
   return b;
 }
 
-Vec3 box_centre(const Bbox_3& b) {
-  return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()),
-              0.5 * (b.zmin() + b.zmax()));
-}
-
 double box_half_diagonal(const Bbox_3& b) {
   return 0.5 * Vec3(b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()).norm();
 }

@@ -1272,9 +1272,7 @@ bool Solver::try_intersection(int ea, int eb, Vec4 x) {
       } else {  // least squares
         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4> G = Jf.transpose() * Jf;
         G.diagonal().array() += 1e-14 * G.trace() + 1e-300;
-        s = -G.ldlt().solve(Jf.transpose() * d);
-        for (int k = 0; k < n; ++k)
-          if (held & (1u << k)) s[k] = 0.0;
+        s = -G.ldlt().solve(Jf.transpose() * d);  // zero along held columns
       }
       unsigned out = 0u;
       for (int k = 0; k < n; ++k)

@@ -14,10 +14,6 @@ namespace extremal {
 
 namespace {
 
-Vec3 centre_of(const Bbox_3& b) {
-  return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
-}
-
 double diagonal(const Bbox_3& b) {
   return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
                    (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
@@ -463,7 +459,7 @@ void Tracking_model::build_tree() {
       Bbox_3 box, centres;
       for (int k = begin; k < end; ++k) {
         box += m.m_primitives[ids[k]].box;
-        const Vec3 c = centre_of(m.m_primitives[ids[k]].box);
+        const Vec3 c = box_centre(m.m_primitives[ids[k]].box);
         centres += Bbox_3(c.x(), c.y(), c.z(), c.x(), c.y(), c.z());
       }
       m.m_tree[index].box = box;
@@ -476,7 +472,7 @@ void Tracking_model::build_tree() {
         if (centres.max(a) - centres.min(a) > centres.max(axis) - centres.min(axis)) axis = a;
       const int mid = (begin + end) / 2;
       std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int b) {
-        return centre_of(m.m_primitives[a].box)[axis] < centre_of(m.m_primitives[b].box)[axis];
+        return box_centre(m.m_primitives[a].box)[axis] < box_centre(m.m_primitives[b].box)[axis];
       });
       const int l = build(begin, mid);
       const int r = build(mid, end);

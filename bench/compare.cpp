@@ -658,9 +658,6 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
     return s;
   }
   const Bbox_3 box_a = s.a.trimmed_bbox(s.a.placement), box_b = s.b.trimmed_bbox(s.b.placement);
-  auto centre = [](const Bbox_3& b) -> Vec3 {
-    return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
-  };
   auto half = [](const Bbox_3& b) -> Vec3 {
     return 0.5 * Vec3(b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin());
   };
@@ -673,10 +670,10 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
   // to A's box (its box's half diagonal bounds how far it reaches from its centre).
   const double size_a = half(box_a).norm();
   const double reach_b = half(box_b).norm();
-  const Rigid_pose_3 recentre(Mat3::Identity(), -centre(box_b));
+  const Rigid_pose_3 recentre(Mat3::Identity(), -box_centre(box_b));
   s.b.placement = recentre * s.b.placement;
   s.occt_b = moved(s.occt_b, recentre);
-  const Vec3 start = centre(box_a) + Vec3(half(box_a).x() + reach_b + 0.1 * size_a, -size_a, 0.0);
+  const Vec3 start = box_centre(box_a) + Vec3(half(box_a).x() + reach_b + 0.1 * size_a, -size_a, 0.0);
   Twist_3 v;
   v.linear = Vec3(0.0, size_a, 0.0);
   v.angular = Vec3(0.05, 0.1, 0.15);

@@ -36,9 +36,13 @@ inline double box_distance(const Bbox_3& a, const Bbox_3& b) {
   return std::sqrt(s);
 }
 
+inline Vec3 box_centre(const Bbox_3& b) {
+  return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+}
+
 // Largest n.x over a box: its support function (n in the box's frame).
 inline double box_support(const Bbox_3& b, const Vec3& n) {
-  const Vec3 c(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
+  const Vec3 c = box_centre(b);
   const Vec3 h(0.5 * (b.xmax() - b.xmin()), 0.5 * (b.ymax() - b.ymin()), 0.5 * (b.zmax() - b.zmin()));
   return n.dot(c) + n.cwiseAbs().dot(h);
 }
