@@ -30,18 +30,27 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   // on a face at the other witness (with the opposite normal) are pairs of the same depth:
   // the most central is kept. Loose tolerances: a depth whose budget ran out is a little off,
   // and this is a seed.
+  // A witness on a B-rep edge (the hulls' support at a box's rim, of a peg's side against its
+  // side face: the generator's end at the top edge) starts from the faces at it instead.
   const Tracking_model& MA = *m_model_a;
   const Tracking_model& MB = *m_model_b;
-  if (!MA.primitives()[pa].is_surface() || !MB.primitives()[pb].is_surface()) return;
+  const Primitive& PA = MA.primitives()[pa];
+  const Primitive& PB = MB.primitives()[pb];
+  const auto face_or_edge = [](const Primitive& P) {
+    return P.is_surface() || P.kind == Primitive_kind::Edge;
+  };
+  if (!face_or_edge(PA) || !face_or_edge(PB) || (!PA.is_surface() && !PB.is_surface())) return;
+  const bool both_faces = PA.is_surface() && PB.is_surface();
   Feature_point wa, wb;
-  evaluate_feature(MA.primitives()[pa].feature, X_WA, params.data(), wa, 0);
-  evaluate_feature(MB.primitives()[pb].feature, X_WB, params.data() + 2, wb, 0);
+  evaluate_feature(PA.feature, X_WA, params.data(), wa, 0);
+  evaluate_feature(PB.feature, X_WB, params.data() + PA.feature.dimension(), wb, 0);
   const double tol = 1e-4 * std::max({1.0, std::abs(depth), box_diagonal(MA.box()),
                                       box_diagonal(MB.box())});
   // The faces whose boxes hold a witness (its own, and those across the rim it sits on).
   auto faces_at = [tol](const Tracking_model& M, const Rigid_pose_3& X, const Vec3& w, int own,
                         std::vector<int>& out) {
-    out.assign(1, own);
+    out.clear();
+    if (M.primitives()[own].is_surface()) out.push_back(own);
     const Bbox_3 b = to_point(X.inverse().apply_point(w)).bbox();
     for (int p = 0; p < static_cast<int>(M.primitives().size()); ++p) {
       const Primitive& P = M.primitives()[p];
@@ -54,8 +63,9 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   constexpr double k_aligned = 1.0 - 1e-6;
   constexpr int n_samples = 8;
   const Rigid_pose_3 identity;
-  double best = off_centre(MA.primitives()[pa].feature, params.data()) +
-                off_centre(MB.primitives()[pb].feature, params.data() + 2);
+  double best = both_faces ? off_centre(PA.feature, params.data()) +
+                                 off_centre(PB.feature, params.data() + 2)
+                           : HUGE_VAL;
   int best_a = pa, best_b = pb;
   Vec4 chosen = params;
   for (int fa : faces_a)
@@ -73,8 +83,9 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
         // and Newton's projection on G from the witness where G is its face.
         const bool own_f = side == 0 ? fa == pa : fb == pb;
         const bool own_g = side == 0 ? fb == pb : fa == pa;
-        const double* f0 = params.data() + (side == 0 ? 0 : 2);
-        const double* w0 = params.data() + (side == 0 ? 2 : 0);
+        const int nb = PA.feature.dimension();  // (B's parameters follow A's)
+        const double* f0 = params.data() + (side == 0 ? 0 : nb);
+        const double* w0 = params.data() + (side == 0 ? nb : 0);
         const Vec4 g0 = own_g ? Vec4(w0[0], w0[1], 0.0, 0.0)
                               : Vec4(0.5 * (G.lower(0) + G.upper(0)), 0.5 * (G.lower(1) + G.upper(1)),
                                      0.0, 0.0);
@@ -288,6 +299,32 @@ bool Body_pair_tracker::convex() {
 double Body_pair_tracker::depth_tolerance(double depth) const {
   return std::max(m_options.overlap.absolute_tolerance,
                   m_options.overlap.relative_tolerance * std::abs(depth));
+}
+
+double Body_pair_tracker::boxes_bound() {
+  if (m_boxes_bound_at != m_steps) {
+    m_boxes_bound = boxes_depth_bound();
+    m_boxes_bound += depth_tolerance(m_boxes_bound);
+    m_boxes_bound_at = m_steps;
+  }
+  return m_boxes_bound;
+}
+
+double Body_pair_tracker::boxes_depth_bound() const {
+  // In A's frame: B's box is placed by X_AB. Along n, A reaches box_support(A, n) and B
+  // reaches down to -box_support(B, -R^T n) - n.t; the overlap is their difference.
+  const Bbox_3& a = m_model_a->box();
+  const Bbox_3& b = m_model_b->box();
+  const Mat3 R = m_relative.rotation();
+  const Vec3 t = m_relative.translation();
+  double least = HUGE_VAL;
+  for (int frame = 0; frame < 2; ++frame)
+    for (int axis = 0; axis < 3; ++axis)
+      for (const double sign : {1.0, -1.0}) {
+        const Vec3 n = sign * (frame == 0 ? Vec3(Vec3::Unit(axis)) : Vec3(R.col(axis)));
+        least = std::min(least, box_support(a, n) + box_support(b, -(R.transpose() * n)) - n.dot(t));
+      }
+  return least;
 }
 
 bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,

@@ -148,12 +148,6 @@ void Body_pair_tracker::kill(int k) {
 
 namespace {
 
-// Whether a surface primitive's parameters q lie on its trim's boundary band (a B-rep edge).
-bool on_trim_boundary(const Primitive& P, const double* q) {
-  return P.is_surface() && P.trim != nullptr &&
-         P.trim->locate(q[0], q[1]) == Trim_location::On_boundary;
-}
-
 // Sampled closest pair of two features, polished by Newton at rest (pairs the global solver
 // has no element for: mesh edges).
 Vec4 sampled_seed(const Feature& A, const Rigid_pose_3& X_WA, const Feature& B,
@@ -498,87 +492,7 @@ void Body_pair_tracker::step_live(int k) {
   m_report.corrections += L.result.corrections;
   if (m_options.tracker.corrections > 0 && L.result.corrections == m_options.tracker.corrections)
     ++m_report.capped_corrections;
-  const int na = A.feature.dimension();
-  L.valid = (!A.is_surface() || MA.contains(L.pa, L.result.params.data())) &&
-            (!B.is_surface() || MB.contains(L.pb, L.result.params.data() + na));
-  // A penetration depth counts only for a pair that went inside through contact (the normal
-  // form's band around it): a face turned away from the other body (the far side of a torus
-  // seen from its hole) also has d against its outward normal, with the bodies apart.
-  // A tracker seeded apart whose first step reads it behind an open sheet (the sheet's normal
-  // points away from the other body: an ellipsoid under a plane) did not come through contact:
-  // an open sheet has no inside, and the solver's answer is reported instead.
-  // It stays so until it reads the pair in front.
-  if (L.result.distance > 0.0)
-    L.behind_sheet = false;
-  else if (first && L.seeded_apart && L.result.distance < -m_options.contact_tolerance &&
-           (!closed(0) || !closed(1)))
-    L.behind_sheet = true;
-  // A normal-form reading holds a pair only where its conditions do: the normals parallel, or
-  // (the other side held on an edge) d along the reference normal with the other witness the
-  // foot of d along its free parameters, the conditions of a pair on an edge. Seeded at a
-  // common point of surfaces that cross (a ball cutting a sheet), the normal form's residual
-  // has a local minimum there that is no solution, and the tracker sits on it (read -0.011 and
-  // +0.041 for a ball 0.7 deep in a plane). Through contact the corrections keep both to
-  // rounding. With d along the reference normal but across the other's face, no foot there,
-  // the reading is no pair: as1's bolt head seated flush on a bracket's flange, its rim at the
-  // flange's edge, read as a 0.475 interference, and a tilted peg's cap and side pressed into
-  // a plate read along their own normals (-4.8 for a rim 8 deep). At d = 0, where d has no
-  // direction, a regular system decides (surfaces crossing there, no contact); a singular one
-  // is a rim or an edge touching the other surface, in contact (as1's rod on a plate's edge),
-  // where a witness is on an edge (of its patch or its trim) or a curve: two faces' interior
-  // points are a crossing (a tilted peg's cap through a sheet's border read 0 'contact' 1.6
-  // deep).
-  if (L.result.normal_form && L.result.alignment_error > k_wandering_error) {
-    const bool holds =
-        std::abs(L.result.distance) > m_options.contact_tolerance
-            ? L.result.reference_error <= k_wandering_error &&
-                  L.result.other_error <= k_wandering_error
-            : L.result.degeneracy != Degeneracy::None && L.result.degeneracy != Degeneracy::Pole &&
-                  (L.result.on_edge != 0u || !A.is_surface() || !B.is_surface() ||
-                   on_trim_boundary(A, L.result.params.data()) ||
-                   on_trim_boundary(B, L.result.params.data() + 2));
-    if (!holds) L.valid = false;
-  }
-  if (L.result.normal_form && !L.behind_sheet && L.valid) L.through_contact = true;
-  else if (L.result.distance > 0.0) L.through_contact = false;
-  if (L.result.distance < -m_options.contact_tolerance && !L.through_contact) L.valid = false;
-  // Deep inside (past the normal form's band), Newton's basin about a penetration pair can be
-  // small: a tracker seeded at a common point of a deep overlap, or carried there, whose
-  // conditions are far from holding wanders and reports nothing.
-  if (L.result.distance < -m_options.contact_tolerance && !L.result.normal_form &&
-      !is_converged(L, k_wandering_error))
-    L.valid = false;
-  // Between solids the outward normals at the witnesses tell a depth or a distance from a
-  // point of one body inside the other (only where they are defined, not at a pole, where the
-  // cross product is rounding; normals perpendicular are no sign of either, hence the margins):
-  // - a penetration pair's normals oppose each other. With them alike, the pair is no depth: a
-  //   point of one surface inside the other body and its foot on the face it entered by (a ball
-  //   that jumped deep into a box in one step). Open sheets keep it: a plane passed through its
-  //   copy is behind it. (A tilted peg's side held on its rim, pressed into a plate: normals
-  //   nearly perpendicular.)
-  // - apart, d goes along A's normal (where A's sign is read) and against B's. With B's along
-  //   it too, A's witness lies inside B: the bodies are nested, not apart (a ball inside a
-  //   part's plate, its tracker gone over its pole onto the pair below it, read +17.8; found by
-  //   a helper's probe). No distance: the row is the solver's depth until a tracker holds one.
-  if (L.valid && std::abs(L.result.distance) > m_options.contact_tolerance && A.is_surface() &&
-      B.is_surface() && closed(0) && closed(1)) {
-    const auto outward = [](const Primitive& P, const Rigid_pose_3& X, const double* q, Vec3& n) {
-      Feature_point f;
-      evaluate_feature(P.feature, X, q, f, 1);
-      n = P.feature.outward_sign() * f.d[0].cross(f.d[1]);
-      return n.norm() > 1e-8 * f.d[0].norm() * f.d[1].norm();
-    };
-    const double* q = L.result.params.data();
-    Vec3 na, nb;
-    if (outward(B, *m_XB, q + 2, nb)) {
-      if (L.result.distance < 0.0) {
-        if (outward(A, *m_XA, q, na) && na.dot(nb) > 1e-6 * na.norm() * nb.norm()) L.valid = false;
-      } else {
-        const Vec3 d = L.result.point_b - L.result.point_a;
-        if (nb.dot(d) > 1e-6 * nb.norm() * d.norm()) L.valid = false;
-      }
-    }
-  }
+  judge(k, first);
 }
 
 bool Body_pair_tracker::transition(int k) {
@@ -855,6 +769,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   ++m_steps;
   m_apart_unheld = false;
   m_relative = X_WA.inverse() * X_WB;
+  m_boxes_bound_at = -1;  // (made on first use in this step)
   if (!m_started) {
     start(X_WA, X_WB);
     m_previous_relative = m_relative;

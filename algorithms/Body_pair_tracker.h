@@ -232,6 +232,11 @@ class Body_pair_tracker {
   // certified pair is tracked; inside, where the hulls' depth is the bodies' (convex, or one
   // inside the other), its pair replaces the trackers deeper than it. True if it changed them.
   bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
+  // The least overlap of the two bodies' boxes along the axes of either frame, at m_relative:
+  // an upper bound on the depth of two solids (a translation that parts the boxes parts them).
+  double boxes_depth_bound() const;
+  // boxes_depth_bound plus its tolerance (depth_tolerance), made once a step.
+  double boxes_bound();
   // Whether body A (side 0) or B is closed (body_closedness, made on first use).
   bool closed(int side);
   // A tracker on pair (pa, pb) from `params`: the pair's live one moved there (another basin),
@@ -267,6 +272,9 @@ class Body_pair_tracker {
   void seed_pair(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Steps slot k at time t (evaluates the closed form), setting its validity.
   void step_live(int k);
+  // Whether live tracker k's reading holds a pair of the bodies (Live::valid), and the flags it
+  // keeps (through_contact, behind_sheet); `first`: its first step (Body_pair_validity.cpp).
+  void judge(int k, bool first);
   // Steps every live slot not yet stepped at this step, with up to three hand-overs each.
   void step_pending();
   // True when a live slot tracks primitive pair `key` (see pair_key).
@@ -433,6 +441,8 @@ class Body_pair_tracker {
   signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;
   double m_deep_checked = HUGE_VAL;  // the tracked minimum at check_deep's last check
   Rigid_pose_3 m_deep_at;             // and X_AB there
+  double m_boxes_bound = HUGE_VAL;    // boxes_bound's value
+  long m_boxes_bound_at = -1;         // and the step it was made in
   // This step's solve found the surfaces meeting (check_vacated, or a lost step's solve) and
   // still no tracker holds a depth or contact: the report is the solver's (m_solved).
   bool m_apart_unheld = false;

@@ -89,4 +89,23 @@ void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* 
   }
 }
 
+// Along a collapsed v_min edge, f_u(u, v0 + h) = h f_uv + O(h^2), so f_u x f_v tends to the
+// direction of f_uv x f_v (h > 0; at v_max, h < 0), and likewise along a collapsed u edge.
+Vec3 outward_direction(const Feature& f, const Feature_point& fp, const double* q, const Vec3& cross) {
+  const unsigned collapsed = f.collapsed_edges();
+  if (collapsed == 0u) return cross;
+  // The collapsed edge of direction `dir` (0: u) the parameter sits on: +1 lower, -1 upper.
+  auto side = [&](int dir) {
+    const bool lo = collapsed & (1u << (2 * dir)), hi = collapsed & (2u << (2 * dir));
+    if (lo && hi) return q[dir] - f.lower(dir) <= f.upper(dir) - q[dir] ? 1.0 : -1.0;
+    return lo ? 1.0 : -1.0;
+  };
+  const double lu = fp.d[0].squaredNorm(), lv = fp.d[1].squaredNorm();
+  if (lu <= 1e-12 * lv && (collapsed & 12u))
+    return f.outward_sign() * side(1) * fp.dd[0][1].cross(fp.d[1]);
+  if (lv <= 1e-12 * lu && (collapsed & 3u))
+    return f.outward_sign() * side(0) * fp.d[0].cross(fp.dd[0][1]);
+  return cross;
+}
+
 }  // namespace extremal

@@ -62,4 +62,9 @@ struct Feature_point {
 void evaluate_feature(const Feature& f, const Rigid_pose_3& X_WA, const double* params,
                       Feature_point& out, int order = 2, Span_hint* hint = nullptr);
 
+// The outward direction (not unit) of surface f at q, fp its point there with second
+// derivatives and `cross` its outward cross product of the tangents: `cross`, or on a
+// collapsed edge (a pole: Feature::collapsed_edges), where one tangent vanishes, its limit.
+Vec3 outward_direction(const Feature& f, const Feature_point& fp, const double* q, const Vec3& cross);
+
 }  // namespace extremal

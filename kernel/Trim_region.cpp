@@ -178,6 +178,37 @@ Trim_location Trim_region::locate(double u, double v) const {
   return inside ? Trim_location::Inside : Trim_location::Outside;
 }
 
+bool Trim_region::boundary_directions(double u, double v, double along[2], double out[2]) const {
+  if (m_seg.empty() || !(std::isfinite(u) && std::isfinite(v))) return false;
+  if (v < m_vmin - m_tol || v > m_vmax + m_tol || u < m_umin - m_tol || u > m_umax + m_tol)
+    return false;
+  const double lo = m_vmin - m_tol;
+  const int k = static_cast<int>(std::clamp(std::floor((v - lo) / m_slab_h), 0.0,
+                                            static_cast<double>(m_slabs - 1)));
+  const Segment* nearest = nullptr;
+  double best = m_tol * m_tol;
+  for (int i = m_slab_start[k]; i < m_slab_start[k + 1]; ++i) {
+    const Segment& s = m_seg[m_slab_seg[i]];
+    const double d2 = point_segment_distance2(u, v, {s.u0, s.v0}, {s.u1, s.v1});
+    if (d2 <= best) best = d2, nearest = &s;
+  }
+  if (nearest == nullptr) return false;
+  const double du = nearest->u1 - nearest->u0, dv = nearest->v1 - nearest->v0;
+  const double len = std::hypot(du, dv);
+  along[0] = du / len;
+  along[1] = dv / len;
+  // Four bands across: past the band on either side, unless near the segment's end.
+  const double step = 4.0 * m_tol;
+  for (const double sign : {1.0, -1.0}) {
+    out[0] = -sign * along[1];
+    out[1] = sign * along[0];
+    if (locate(u + step * out[0], v + step * out[1]) == Trim_location::Outside &&
+        locate(u - step * out[0], v - step * out[1]) != Trim_location::Outside)
+      return true;
+  }
+  return false;
+}
+
 bool Trim_region::box_outside(double u0, double v0, double u1, double v1) const {
   if (m_seg.empty()) return false;
   if (!(std::isfinite(u0) && std::isfinite(v0) && std::isfinite(u1) && std::isfinite(v1)))

@@ -66,6 +66,11 @@ class Trim_region {
   // within the tolerance of a loop, and its centre is Outside): a certified "the box holds no
   // point of the face", for pruning. False for untrimmed regions. No heap allocation.
   bool box_outside(double u0, double v0, double u1, double v1) const;
+  // At a point of the On_boundary band: the direction (du, dv) of the nearest boundary segment
+  // and the one across it that leaves the face (the side where a point a few bands away is
+  // Outside). False off the band, or where neither side is Outside (a sliver thinner than the
+  // band). No heap allocation.
+  bool boundary_directions(double u, double v, double along[2], double out[2]) const;
 
  private:
   struct Segment {
