@@ -769,7 +769,6 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   ++m_steps;
   m_apart_unheld = false;
   m_relative = X_WA.inverse() * X_WB;
-  m_boxes_bound_at = -1;  // (made on first use in this step)
   if (!m_started) {
     start(X_WA, X_WB);
     m_previous_relative = m_relative;
