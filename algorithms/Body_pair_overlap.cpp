@@ -41,9 +41,10 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   };
   if (!face_or_edge(PA) || !face_or_edge(PB) || (!PA.is_surface() && !PB.is_surface())) return;
   const bool both_faces = PA.is_surface() && PB.is_surface();
+  const int nb = PA.feature.dimension();  // (B's parameters follow A's)
   Feature_point wa, wb;
   evaluate_feature(PA.feature, X_WA, params.data(), wa, 0);
-  evaluate_feature(PB.feature, X_WB, params.data() + PA.feature.dimension(), wb, 0);
+  evaluate_feature(PB.feature, X_WB, params.data() + nb, wb, 0);
   const double tol = 1e-4 * std::max({1.0, std::abs(depth), box_diagonal(MA.box()),
                                       box_diagonal(MB.box())});
   // The faces whose boxes hold a witness (its own, and those across the rim it sits on).
@@ -64,7 +65,7 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   constexpr int n_samples = 8;
   const Rigid_pose_3 identity;
   double best = both_faces ? off_centre(PA.feature, params.data()) +
-                                 off_centre(PB.feature, params.data() + 2)
+                                 off_centre(PB.feature, params.data() + nb)
                            : HUGE_VAL;
   int best_a = pa, best_b = pb;
   Vec4 chosen = params;
@@ -83,7 +84,6 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
         // and Newton's projection on G from the witness where G is its face.
         const bool own_f = side == 0 ? fa == pa : fb == pb;
         const bool own_g = side == 0 ? fb == pb : fa == pa;
-        const int nb = PA.feature.dimension();  // (B's parameters follow A's)
         const double* f0 = params.data() + (side == 0 ? 0 : nb);
         const double* w0 = params.data() + (side == 0 ? nb : 0);
         const Vec4 g0 = own_g ? Vec4(w0[0], w0[1], 0.0, 0.0)
@@ -302,15 +302,7 @@ double Body_pair_tracker::depth_tolerance(double depth) const {
 }
 
 double Body_pair_tracker::boxes_bound() {
-  if (m_boxes_bound_at != m_steps) {
-    m_boxes_bound = boxes_depth_bound();
-    m_boxes_bound += depth_tolerance(m_boxes_bound);
-    m_boxes_bound_at = m_steps;
-  }
-  return m_boxes_bound;
-}
-
-double Body_pair_tracker::boxes_depth_bound() const {
+  if (m_boxes_bound_at == m_steps) return m_boxes_bound;
   // In A's frame: B's box is placed by X_AB. Along n, A reaches box_support(A, n) and B
   // reaches down to -box_support(B, -R^T n) - n.t; the overlap is their difference.
   const Bbox_3& a = m_model_a->box();
@@ -324,7 +316,9 @@ double Body_pair_tracker::boxes_depth_bound() const {
         const Vec3 n = sign * (frame == 0 ? Vec3(Vec3::Unit(axis)) : Vec3(R.col(axis)));
         least = std::min(least, box_support(a, n) + box_support(b, -(R.transpose() * n)) - n.dot(t));
       }
-  return least;
+  m_boxes_bound = least + depth_tolerance(least);
+  m_boxes_bound_at = m_steps;
+  return m_boxes_bound;
 }
 
 bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,

@@ -232,10 +232,9 @@ class Body_pair_tracker {
   // certified pair is tracked; inside, where the hulls' depth is the bodies' (convex, or one
   // inside the other), its pair replaces the trackers deeper than it. True if it changed them.
   bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
-  // The least overlap of the two bodies' boxes along the axes of either frame, at m_relative:
-  // an upper bound on the depth of two solids (a translation that parts the boxes parts them).
-  double boxes_depth_bound() const;
-  // boxes_depth_bound plus its tolerance (depth_tolerance), made once a step.
+  // The least overlap of the two bodies' boxes along the axes of either frame, at m_relative,
+  // plus its tolerance (depth_tolerance): an upper bound on the depth of two solids (a
+  // translation that parts the boxes parts them). Made once a step.
   double boxes_bound();
   // Whether body A (side 0) or B is closed (body_closedness, made on first use).
   bool closed(int side);

@@ -20,38 +20,57 @@ bool on_trim_boundary(const Primitive& P, const double* q) {
          P.trim->locate(q[0], q[1]) == Trim_location::On_boundary;
 }
 
-// Whether `n_other` (the other body's outward normal at its witness) points across an edge
-// of P's face at q, a witness on the patch edges `held` (bits of P's parameters) or its trim's
-// boundary. A solid's outward normals at a convex edge all lie on the side the face leaves by
-// (the face's and its neighbour's), and a penetration pair's normals oppose: -n_other must be
-// among them. A point of one surface crossing the other body's edge, outside it, and the edge
-// point inside the first body are no depth: a peg 4 deep in a box's top, slid past its side,
-// read the box's top edge against the peg's side, 4.6 growing to 9.4 (normals perpendicular,
-// so the face-normal test keeps it).
-bool normal_across_edge(const Primitive& P, const Rigid_pose_3& X, const double* q, unsigned held,
-                        const Vec3& n_other) {
-  if (!P.is_surface()) return false;
-  double along[2], out[2];
-  const bool on_trim = P.trim != nullptr && P.trim->boundary_directions(q[0], q[1], along, out);
-  if (!held && !on_trim) return false;
-  Feature_point f;
+// An edge of a face that a witness sits on: its direction and one leaving the face across it
+// (tangent vectors at the witness); `chord`: a trim's, read off its flattened polyline.
+struct Face_edge {
+  Vec3 along, leaving;
+  bool chord = false;
+};
+
+// The edges of surface primitive P at q: the patch edges its parameters are held on (bits of
+// `held`), then its trim's boundary. Evaluates P there into f (first derivatives) only when it
+// finds one. Returns how many.
+int face_edges_at(const Primitive& P, const Rigid_pose_3& X, const double* q, unsigned held,
+                  Feature_point& f, Face_edge out[3]) {
+  double along[2], leaving[2];
+  const bool on_trim = P.trim != nullptr && P.trim->boundary_directions(q[0], q[1], along, leaving);
+  if (!held && !on_trim) return 0;
   evaluate_feature(P.feature, X, q, f, 1);
-  const Vec3 n = P.feature.outward_sign() * f.d[0].cross(f.d[1]);
-  const double scale = n.norm() * n_other.norm();
-  if (!(scale > 0.0)) return false;
-  // Past the margin only: a pair beside an edge, its normals opposed, is a depth to rounding.
-  auto across = [&](const Vec3& edge, const Vec3& leaving) {
-    Vec3 side = n.cross(edge);
-    if (side.dot(leaving) < 0.0) side = -side;
-    const double len = side.norm();
-    return len > 0.0 && n_other.dot(side) > k_wandering_error * len * n_other.norm();
-  };
+  int n = 0;
   for (int k = 0; k < 2; ++k) {
     if (!(held & (1u << k))) continue;
     const bool upper = P.feature.upper(k) - q[k] < q[k] - P.feature.lower(k);
-    if (across(f.d[1 - k], upper ? f.d[k] : Vec3(-f.d[k]))) return true;
+    out[n++] = {f.d[1 - k], upper ? f.d[k] : Vec3(-f.d[k]), false};
   }
-  return on_trim && across(along[0] * f.d[0] + along[1] * f.d[1], out[0] * f.d[0] + out[1] * f.d[1]);
+  if (on_trim)
+    out[n++] = {along[0] * f.d[0] + along[1] * f.d[1], leaving[0] * f.d[0] + leaving[1] * f.d[1], true};
+  return n;
+}
+
+// Whether `n_other` (the other body's outward normal at its witness) points across an edge
+// of P's face at q (face_edges_at). A solid's outward normals at a convex edge all lie on the
+// side the face leaves by (the face's and its neighbour's), and a penetration pair's normals
+// oppose: -n_other must be among them. A point of one surface crossing the other body's edge,
+// outside it, and the edge point inside the first body are no depth: a peg 4 deep in a box's
+// top, slid past its side, read the box's top edge against the peg's side, 4.6 growing to 9.4
+// (normals perpendicular, so the face-normal test keeps it).
+bool normal_across_edge(const Primitive& P, const Rigid_pose_3& X, const double* q, unsigned held,
+                        const Vec3& n_other) {
+  if (!P.is_surface()) return false;
+  Feature_point f;
+  Face_edge edges[3];
+  const int count = face_edges_at(P, X, q, held, f, edges);
+  if (count == 0) return false;
+  const Vec3 n = P.feature.outward_sign() * f.d[0].cross(f.d[1]);
+  if (!(n.norm() * n_other.norm() > 0.0)) return false;
+  // Past the margin only: a pair beside an edge, its normals opposed, is a depth to rounding.
+  for (int i = 0; i < count; ++i) {
+    Vec3 side = n.cross(edges[i].along);
+    if (side.dot(edges[i].leaving) < 0.0) side = -side;
+    const double len = side.norm();
+    if (len > 0.0 && n_other.dot(side) > k_wandering_error * len * n_other.norm()) return true;
+  }
+  return false;
 }
 
 // Whether direction v lies outside the wedge of outward normals at parameter t of B-rep edge
@@ -103,20 +122,18 @@ bool edge_crosses_surface(const Primitive& A, const Rigid_pose_3& XA, const Prim
   bool on[2] = {false, false}, chord[2] = {false, false};
   Feature_point f[2];
   for (int s = 0; s < 2; ++s) {
-    evaluate_feature(P[s]->feature, *X[s], qs[s], f[s], 1);
+    Face_edge edges[3];
+    const int count =
+        P[s]->is_surface() ? face_edges_at(*P[s], *X[s], qs[s], held[s], f[s], edges) : 0;
+    if (count == 0) evaluate_feature(P[s]->feature, *X[s], qs[s], f[s], 1);
     if (P[s]->feature.dimension() == 1) {
       tangent[s] = f[s].d[0];
       on[s] = true;
-    } else if (P[s]->is_surface()) {
-      double along[2], out[2];
-      if (held[s] == 1u || held[s] == 2u) {
-        tangent[s] = f[s].d[held[s] == 1u ? 1 : 0];  // along the edge: the other parameter
-        on[s] = true;
-      } else if (!held[s] && P[s]->trim != nullptr &&
-                 P[s]->trim->boundary_directions(qs[s][0], qs[s][1], along, out)) {
-        tangent[s] = along[0] * f[s].d[0] + along[1] * f[s].d[1];
-        on[s] = chord[s] = true;
-      }
+    } else if (held[s] == 1u || held[s] == 2u || (!held[s] && count > 0)) {
+      // One edge (a corner, two held parameters, is a point): the held one, or the trim's.
+      tangent[s] = edges[0].along;
+      on[s] = true;
+      chord[s] = edges[0].chord;
     }
   }
   if (on[0] == on[1]) return false;  // edge on edge (or neither): a point contact
@@ -190,8 +207,8 @@ void Body_pair_tracker::judge(int k, bool first) {
       !is_converged(L, k_wandering_error))
     L.valid = false;
   // Between solids the outward normals at the witnesses tell a depth or a distance from a
-  // point of one body inside the other (only where they are defined, not at a pole, where the
-  // cross product is rounding; normals perpendicular are no sign of either, hence the margins):
+  // point of one body inside the other (where they are defined; at a pole, their limit; normals
+  // perpendicular are no sign of either, hence the margins):
   // - a penetration pair's normals oppose each other. With them alike, the pair is no depth: a
   //   point of one surface inside the other body and its foot on the face it entered by (a ball
   //   that jumped deep into a box in one step). Open sheets keep it: a plane passed through its

@@ -134,10 +134,6 @@ Trim_region::Trim_region(const std::vector<Trim_loop>& loops, double tolerance) 
   const double lo = m_vmin - m_tol, hi = m_vmax + m_tol;
   m_slab_h = (hi - lo) / m_slabs;
   if (!(m_slab_h > 0.0)) m_slab_h = 1.0;
-  auto slab_of = [&](double v) {
-    const double f = std::floor((v - lo) / m_slab_h);
-    return static_cast<int>(std::clamp(f, 0.0, static_cast<double>(m_slabs - 1)));
-  };
   m_slab_start.assign(m_slabs + 1, 0);
   for (const auto& s : m_seg) {
     const int a = slab_of(std::min(s.v0, s.v1) - m_tol), b = slab_of(std::max(s.v0, s.v1) + m_tol);
@@ -153,14 +149,17 @@ Trim_region::Trim_region(const std::vector<Trim_loop>& loops, double tolerance) 
   }
 }
 
+int Trim_region::slab_of(double v) const {
+  const double f = std::floor((v - (m_vmin - m_tol)) / m_slab_h);
+  return static_cast<int>(std::clamp(f, 0.0, static_cast<double>(m_slabs - 1)));
+}
+
 Trim_location Trim_region::locate(double u, double v) const {
   if (m_seg.empty()) return Trim_location::Inside;
   if (!(std::isfinite(u) && std::isfinite(v))) return Trim_location::Outside;
   if (v < m_vmin - m_tol || v > m_vmax + m_tol || u < m_umin - m_tol || u > m_umax + m_tol)
     return Trim_location::Outside;
-  const double lo = m_vmin - m_tol;
-  const int k = static_cast<int>(std::clamp(std::floor((v - lo) / m_slab_h), 0.0,
-                                            static_cast<double>(m_slabs - 1)));
+  const int k = slab_of(v);
   const double tol2 = m_tol * m_tol;
   bool inside = false;
   for (int i = m_slab_start[k]; i < m_slab_start[k + 1]; ++i) {
@@ -182,9 +181,7 @@ bool Trim_region::boundary_directions(double u, double v, double along[2], doubl
   if (m_seg.empty() || !(std::isfinite(u) && std::isfinite(v))) return false;
   if (v < m_vmin - m_tol || v > m_vmax + m_tol || u < m_umin - m_tol || u > m_umax + m_tol)
     return false;
-  const double lo = m_vmin - m_tol;
-  const int k = static_cast<int>(std::clamp(std::floor((v - lo) / m_slab_h), 0.0,
-                                            static_cast<double>(m_slabs - 1)));
+  const int k = slab_of(v);
   const Segment* nearest = nullptr;
   double best = m_tol * m_tol;
   for (int i = m_slab_start[k]; i < m_slab_start[k + 1]; ++i) {
@@ -221,11 +218,6 @@ bool Trim_region::box_outside(double u0, double v0, double u1, double v1) const 
   // A centre on the face answers at once (one slab's scan); boxes inside the face are the
   // common case and would otherwise scan every slab they span.
   if (locate(0.5 * (u0 + u1), 0.5 * (v0 + v1)) != Trim_location::Outside) return false;
-  const double lo = m_vmin - m_tol;
-  auto slab_of = [&](double v) {
-    return static_cast<int>(std::clamp(std::floor((v - lo) / m_slab_h), 0.0,
-                                       static_cast<double>(m_slabs - 1)));
-  };
   const int ka = slab_of(bv0), kb = slab_of(bv1);
   for (int k = ka; k <= kb; ++k)
     for (int i = m_slab_start[k]; i < m_slab_start[k + 1]; ++i) {

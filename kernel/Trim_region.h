@@ -76,6 +76,8 @@ class Trim_region {
   struct Segment {
     double u0, v0, u1, v1;
   };
+  // The slab holding v (clamped to the first and last).
+  int slab_of(double v) const;
   std::vector<Segment> m_seg;
   std::vector<int> m_slab_start;  // CSR: segments of slab k are m_slab_seg[start[k] .. start[k+1])
   std::vector<int> m_slab_seg;
