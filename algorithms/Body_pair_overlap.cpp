@@ -322,7 +322,7 @@ double Body_pair_tracker::boxes_bound() {
 }
 
 bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                   double best) {
+                                   double best, bool force) {
   // Only past the normal form's band around contact: there the tracked pair is the one the
   // bodies met at. Deeper, it is a saddle of the distance that goes on existing after it
   // stopped being the depth: a ball that passed the centre of a larger one still has its
@@ -350,7 +350,7 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // (The normal form holds for the step that reached a depth in one stride: fast motion.)
   const bool against_sheet = !solid_a || !solid_b;
   if ((!solid_a && !solid_b) || deepest == nullptr || deepest->closed_form ||
-      (deepest->result.normal_form && -best <= 0.1 * size)) {
+      (deepest->result.normal_form && -best <= 0.1 * size && !force)) {
     m_deep_checked = HUGE_VAL;
     return false;
   }
@@ -390,7 +390,7 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
     const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
     past_sheet = -best >= box_support(box, n) + box_support(box, -n);
   }
-  if (!(best < m_deep_checked - step) && !moved && !past_sheet) return false;
+  if (!(best < m_deep_checked - step) && !moved && !past_sheet && !force) return false;
   m_deep_checked = best;
   m_deep_at = m_relative;
   const Distance_result g = global_solve(X_WA, X_WB);

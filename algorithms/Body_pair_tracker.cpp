@@ -134,6 +134,7 @@ int Body_pair_tracker::add_live(int pa, int pb, const Vec4& params) {
   L.valid = false;
   L.stepped = -1;
   L.through_contact = false;
+  L.holds_unreached = L.was_shallower = false;
   L.seeded_apart = false;
   L.behind_sheet = false;
   L.closed_form = closed_form_pair(A, B);
@@ -631,6 +632,7 @@ bool Body_pair_tracker::transition(int k) {
     L.pb = npb;
     L.tracker = Extremal_tracker(fa, fb, params, m_options.tracker);
     L.through_contact = false;
+    L.holds_unreached = L.was_shallower = false;
     ++m_report.transitions;
     step_live(k);
     return true;
@@ -782,9 +784,22 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
       if (L.alive && L.valid) best = std::min(best, L.result.distance);
   };
   step_all();
-  // Deep inside, the tracked pair may no longer be the depth (see check_deep).
+  // Deep inside, the tracked pair may no longer be the depth (see check_deep). A penetration
+  // pair that has just become shallower than the tracked depth may be the depth now (or a
+  // pair that would be one but for not having come through contact): the tracked one is
+  // checked. A peg slid off a box's corner diagonally: the corner's pair, held or seeded
+  // inside, read 2.9 to 0.4 while the cap's stale 3 was reported for up to 6 steps, until the
+  // motion check. Once per such crossing.
+  bool shallower_depth = false;
+  for (Live& L : m_live) {
+    const bool shallower = L.alive && (L.valid || L.holds_unreached) &&
+                           L.result.distance < -m_options.contact_tolerance &&
+                           L.result.distance > best + depth_tolerance(best);
+    if (shallower && !L.was_shallower) shallower_depth = true;
+    L.was_shallower = shallower;
+  }
   if (!(best < -m_options.contact_tolerance)) m_deep_checked = HUGE_VAL;
-  else if (check_deep(X_WA, X_WB, best)) step_all();
+  else if (check_deep(X_WA, X_WB, best, shallower_depth)) step_all();
   // 2. Broad phase where the candidate set may miss a pair within |best| plus the margin (|best|:
   //    inside, the tracked pair's own primitives lie |best| apart): entering pairs get a bound,
   //    far ones go. A set built with reach R holds every pair that was within R then, so every

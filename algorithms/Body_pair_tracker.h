@@ -188,6 +188,10 @@ class Body_pair_tracker {
     bool valid = false;  // the witnesses lie on the bodies
     long stepped = -1;   // the step it was last stepped in
     bool through_contact = false;  // it reached its side of contact through the contact band
+    // Its reading would hold but for not having come through contact (a pair seeded inside);
+    // and it read a depth shallower than the tracked one at the last step (see step()).
+    bool holds_unreached = false;
+    bool was_shallower = false;
     // Seeded from a solve that found the bodies apart; and it has read the pair behind an open
     // sheet since its first step, never in front (see step_live).
     bool seeded_apart = false;
@@ -231,7 +235,9 @@ class Body_pair_tracker {
   // solver says whether the bodies still overlap. Apart, the penetrating trackers go and the
   // certified pair is tracked; inside, where the hulls' depth is the bodies' (convex, or one
   // inside the other), its pair replaces the trackers deeper than it. True if it changed them.
-  bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
+  // `force`: another penetration pair has just read shallower than `best` (checked whatever
+  // the depth and the motion).
+  bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best, bool force);
   // The least overlap of the two bodies' boxes along the axes of either frame, at m_relative,
   // plus its tolerance (depth_tolerance): an upper bound on the depth of two solids (a
   // translation that parts the boxes parts them). Made once a step.

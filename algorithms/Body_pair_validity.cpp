@@ -199,7 +199,8 @@ void Body_pair_tracker::judge(int k, bool first) {
   }
   if (L.result.normal_form && !L.behind_sheet && L.valid) L.through_contact = true;
   else if (L.result.distance > 0.0) L.through_contact = false;
-  if (L.result.distance < -m_options.contact_tolerance && !L.through_contact) L.valid = false;
+  // (Judged on by the other rules, which it must pass to hold but for this one: see step().)
+  const bool unreached = L.result.distance < -m_options.contact_tolerance && !L.through_contact;
   // Deep inside (past the normal form's band), Newton's basin about a penetration pair can be
   // small: a tracker seeded at a common point of a deep overlap, or carried there, whose
   // conditions are far from holding wanders and reports nothing.
@@ -269,6 +270,8 @@ void Body_pair_tracker::judge(int k, bool first) {
         L.valid = false;
     }
   }
+  L.holds_unreached = unreached && L.valid;
+  if (unreached) L.valid = false;
 }
 
 }  // namespace extremal

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 #include <string>
 
@@ -28,34 +29,44 @@ const Body& box() {
   return m.bodies.at(0);
 }
 
-// The upright peg's base at (x, 100, z) against the box, z < 200: its depth is the top's,
-// 200 - z, or the side's, 210 - x, whichever is less; past x = 210 it is beside the box.
-double upright_exact(double x, double z) {
-  const double side = 210.0 - x;
-  return side <= 0.0 ? -side : -std::min(200.0 - z, side);
+// The upright peg's base at (x, y, z) against the box, z < 200 < z + 40: both bodies are prisms
+// (a disc and a square swept along z), so their signed distance combines the disc's against the
+// square in the plane with the heights'. Over the square, the shallower of the two depths;
+// outside it, the disc's gap or depth to it (past x = 210 at y = 100 the peg is beside the box).
+double upright_exact(double x, double y, double z) {
+  const double dx = std::max({0.0, -x, x - 200.0}), dy = std::max({0.0, -y, y - 200.0});
+  const double plane = dx > 0.0 || dy > 0.0
+                           ? std::hypot(dx, dy) - k_radius
+                           : -(k_radius + std::min({x, 200.0 - x, y, 200.0 - y}));
+  return plane > 0.0 ? plane : std::max(plane, z - 200.0);
 }
 
-// The upright peg, its base at height z, from x0 at vx for 1 s in 100 steps: the largest
-// |reported - exact|; wrong_sign counts rows read apart while 1e-3 deep, or the reverse, and
-// solved the rows no tracker held (the certified solver's, solved again each such step).
-double worst_upright(double x0, double vx, double z, int& wrong_sign, int& solved) {
+// The upright peg, its base at height z, from (x0, y0) at (vx, vy) for 1 s in 100 steps, each
+// row against the closed form: the largest |reported - exact| and the rows off by more than
+// 1e-8; wrong_sign counts rows read apart while 1e-3 deep, or the reverse, and solved the rows
+// no tracker held (the certified solver's, solved again each such step).
+struct Upright_run {
+  double worst = 0.0;
+  int off = 0, wrong_sign = 0, solved = 0;
+};
+Upright_run run_upright(double x0, double y0, double vx, double vy, double z) {
   const Body peg = make_cylinder_body(k_radius, k_height);
   Body_pair_tracker tracker(peg, box());
   const double dt = 0.01;
-  const Vec3 v(vx, 0.0, 0.0);
-  double worst = 0.0;
-  wrong_sign = solved = 0;
+  const Vec3 v(vx, vy, 0.0);
+  Upright_run run;
   for (int i = 0; i <= 100; ++i) {
-    const double t = i * dt, x = x0 + vx * t;
-    const Pair_report& r = tracker.step(t, Rigid_pose_3(Mat3::Identity(), Vec3(x, 100.0, z)),
+    const double t = i * dt, x = x0 + vx * t, y = y0 + vy * t;
+    const Pair_report& r = tracker.step(t, Rigid_pose_3(Mat3::Identity(), Vec3(x, y, z)),
                                         Twist_3{v, Vec3::Zero()}, box().placement, Twist_3{}, dt);
     EXPECT_TRUE(std::isfinite(r.distance)) << "t = " << t;
-    const double exact = upright_exact(x, z);
-    worst = std::max(worst, std::abs(r.distance - exact));
-    if (std::abs(exact) > 1e-3 && (r.distance > 0.0) != (exact > 0.0)) ++wrong_sign;
-    if (r.solved) ++solved;
+    const double exact = upright_exact(x, y, z), error = std::abs(r.distance - exact);
+    run.worst = std::max(run.worst, error);
+    if (error > 1e-8) ++run.off;
+    if (std::abs(exact) > 1e-3 && (r.distance > 0.0) != (exact > 0.0)) ++run.wrong_sign;
+    if (r.solved) ++run.solved;
   }
-  return worst;
+  return run;
 }
 
 // Slid off past the side (x from 170 or 180): the side's depth takes over once shallower.
@@ -74,10 +85,10 @@ TEST(EdgeSlide, APegSlidOffABoxsSideReadsTheShallowerDepth) {
     double x0, vx, z;
   };
   for (const Run run : {Run{170.0, 60.0, 196.0}, Run{180.0, 40.0, 199.0}, Run{170.0, 60.0, 192.0}}) {
-    int wrong_sign = 0, solved = 0;
-    EXPECT_LE(worst_upright(run.x0, run.vx, run.z, wrong_sign, solved), 1e-8) << "z = " << run.z;
-    EXPECT_EQ(wrong_sign, 0) << "z = " << run.z;
-    EXPECT_EQ(solved, 0) << "z = " << run.z;
+    const Upright_run r = run_upright(run.x0, 100.0, run.vx, 0.0, run.z);
+    EXPECT_LE(r.worst, 1e-8) << "z = " << run.z;
+    EXPECT_EQ(r.wrong_sign, 0) << "z = " << run.z;
+    EXPECT_EQ(r.solved, 0) << "z = " << run.z;
   }
 }
 
@@ -89,10 +100,86 @@ TEST(EdgeSlide, APegSlidOffABoxsSideReadsTheShallowerDepth) {
 // touching it), and the peg's side past the box, outside it, read 2.8 to 0.4 deep against the
 // edge.
 TEST(EdgeSlide, APegSlidOntoABoxsTopFromItsSideReadsTheShallowerDepth) {
-  int wrong_sign = 0, solved = 0;
-  EXPECT_LE(worst_upright(230.0, -60.0, 196.0, wrong_sign, solved), 1e-8);
-  EXPECT_EQ(wrong_sign, 0);
-  EXPECT_EQ(solved, 0);
+  const Upright_run r = run_upright(230.0, 100.0, -60.0, 0.0, 196.0);
+  EXPECT_LE(r.worst, 1e-8);
+  EXPECT_EQ(r.wrong_sign, 0);
+  EXPECT_EQ(r.solved, 0);
+}
+
+// Slid off the box's corner, 3 and 5 deep, diagonally and at 20 and 75 degrees to x: past the
+// corner the disc's depth to it becomes the least, and no frame axis bounds that (along each
+// the boxes overlap by more). The corner's pair (the peg's side against the top face's border
+// or the box's top edge there) was tracked from its first depth, but what was reported was the
+// cap's stale depth, the deeper, for up to 6 rows (up to 2.76 off) until the motion check: the
+// corner's pair held nothing, not having come in through contact, or held and was shallower.
+// Its becoming the shallower depth now triggers that check. Started at several phases of the
+// step against the corner.
+double corner_velocity(double degrees, int axis) {
+  const double a = degrees * M_PI / 180.0;
+  return 50.0 * (axis == 0 ? std::cos(a) : std::sin(a));
+}
+Upright_run run_past_corner(double degrees, double phase, double z) {
+  // Through (205, 205) half-way, offset by the phase.
+  const double vx = corner_velocity(degrees, 0), vy = corner_velocity(degrees, 1);
+  return run_upright(205.0 - 0.55 * vx + phase, 205.0 - 0.55 * vy + phase, vx, vy, z);
+}
+
+TEST(EdgeSlide, APegSlidOffABoxsCornerReadsTheShallowerDepth) {
+  for (const double start : {180.0, 181.5, 182.5}) {
+    const Upright_run r = run_upright(start, start, 40.0, 40.0, 197.0);
+    EXPECT_LE(r.worst, 1e-8) << "start " << start;
+    EXPECT_EQ(r.wrong_sign, 0) << "start " << start;
+    EXPECT_EQ(r.solved, 0) << "start " << start;
+  }
+  for (const double z : {195.0, 197.0})
+    for (const double degrees : {20.0, 45.0, 75.0})
+      for (const double phase : {0.0, 0.7}) {
+        const Upright_run r = run_past_corner(degrees, phase, z);
+        EXPECT_LE(r.worst, 1e-8) << degrees << " degrees, phase " << phase << ", z = " << z;
+        EXPECT_EQ(r.wrong_sign, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
+        EXPECT_EQ(r.solved, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
+      }
+}
+
+// Not yet (a bound on what is left, not a goal): 1 deep, the corner's pair (the side against
+// the box's vertical edge) has no tracker while the peg is inside (its seed, made apart, slid
+// onto a face's pair), and the cap's 1.0 is read for the last two rows before the peg comes
+// apart (0.62 and 0.76 off, by phase); 5 deep at one phase no tracker holds the corner's depth
+// for 4 rows after the motion check (1.76 off).
+TEST(EdgeSlide, APegSlidOffABoxsCornerIsOffForAFewRowsWhereNoTrackerHoldsTheCorner) {
+  for (const double start : {180.0, 182.5}) {
+    const Upright_run r = run_upright(start, start, 40.0, 40.0, 199.0);
+    EXPECT_LE(r.off, 2) << "start " << start;
+    EXPECT_LE(r.worst, 0.8) << "start " << start;
+    EXPECT_EQ(r.wrong_sign, 0) << "start " << start;
+  }
+  const Upright_run r = run_past_corner(45.0, 1.9, 195.0);
+  EXPECT_LE(r.off, 4);
+  EXPECT_LE(r.worst, 1.8);
+  EXPECT_EQ(r.wrong_sign, 0);
+}
+
+// Past the corner at 1 to 8 deep, five directions, three phases (75 runs of 101 rows), each row
+// against the closed form; prints a line per run. Before the shallower-depth trigger, 39 runs
+// had rows off (102 rows, up to 2.57); now 11 (15 rows, up to 1.76: in the runs looked into, no
+// tracker held the corner's pair in those rows). Never a wrong sign.
+TEST(EdgeSlide, APegSlidOffABoxsCornerInManyDirectionsIsOffInFewRows) {
+  int runs_off = 0, rows_off = 0;
+  double worst = 0.0;
+  for (const double z : {192.0, 195.0, 197.0, 198.0, 199.0})
+    for (const double degrees : {20.0, 30.0, 45.0, 60.0, 75.0})
+      for (const double phase : {0.0, 0.7, 1.9}) {
+        const Upright_run r = run_past_corner(degrees, phase, z);
+        std::printf("z = %g, %g degrees, phase %g: worst %.3g, %d rows off, %d solved\n", z,
+                    degrees, phase, r.worst, r.off, r.solved);
+        EXPECT_EQ(r.wrong_sign, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
+        runs_off += r.off > 0;
+        rows_off += r.off;
+        worst = std::max(worst, r.worst);
+      }
+  EXPECT_LE(runs_off, 11);
+  EXPECT_LE(rows_off, 15);
+  EXPECT_LE(worst, 1.8);
 }
 
 // Tilted 0.3 rad about y, 2 deep, slid off the side and back onto the top: the tilted cap's rim
