@@ -410,6 +410,7 @@ int Body_pair_tracker::place(int pa, int pb, const Vec4& params, const Rigid_pos
     m_live[moved].tracker.reset(params);
     m_live[moved].stepped = -1;
     m_live[moved].seeded_apart = m_live[moved].behind_sheet = false;
+    m_live[moved].holds_unreached = m_live[moved].was_shallower = false;
     return moved;
   }
   const int slot = add_live(pa, pb, params);
@@ -785,15 +786,16 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   };
   step_all();
   // Deep inside, the tracked pair may no longer be the depth (see check_deep). A penetration
-  // pair that has just become shallower than the tracked depth may be the depth now (or a
-  // pair that would be one but for not having come through contact): the tracked one is
-  // checked. A peg slid off a box's corner diagonally: the corner's pair, held or seeded
+  // pair that has just become shallower than the tracked depth (by more than its tolerance)
+  // may be the depth now, whether it holds or would but for not having come through contact:
+  // the deep check runs. A peg slid off a box's corner: the corner's pair, held or seeded
   // inside, read 2.9 to 0.4 while the cap's stale 3 was reported for up to 6 steps, until the
-  // motion check. Once per such crossing.
+  // motion check. Once each time a pair becomes shallower (a step it holds nothing leaves its
+  // flag as it was: a pair flickering in and out of holding does not solve each time).
   bool shallower_depth = false;
   for (Live& L : m_live) {
-    const bool shallower = L.alive && (L.valid || L.holds_unreached) &&
-                           L.result.distance < -m_options.contact_tolerance &&
+    if (!L.alive || !(L.valid || L.holds_unreached)) continue;
+    const bool shallower = L.result.distance < -m_options.contact_tolerance &&
                            L.result.distance > best + depth_tolerance(best);
     if (shallower && !L.was_shallower) shallower_depth = true;
     L.was_shallower = shallower;

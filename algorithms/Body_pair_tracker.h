@@ -235,8 +235,9 @@ class Body_pair_tracker {
   // solver says whether the bodies still overlap. Apart, the penetrating trackers go and the
   // certified pair is tracked; inside, where the hulls' depth is the bodies' (convex, or one
   // inside the other), its pair replaces the trackers deeper than it. True if it changed them.
-  // `force`: another penetration pair has just read shallower than `best` (checked whatever
-  // the depth and the motion).
+  // `force`: another penetration pair has just read shallower than `best` by more than
+  // depth_tolerance(best): checked whatever the depth and the motion (but not two sheets, nor a
+  // closed-form pair).
   bool check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best, bool force);
   // The least overlap of the two bodies' boxes along the axes of either frame, at m_relative,
   // plus its tolerance (depth_tolerance): an upper bound on the depth of two solids (a

@@ -199,7 +199,9 @@ void Body_pair_tracker::judge(int k, bool first) {
   }
   if (L.result.normal_form && !L.behind_sheet && L.valid) L.through_contact = true;
   else if (L.result.distance > 0.0) L.through_contact = false;
-  // (Judged on by the other rules, which it must pass to hold but for this one: see step().)
+  // Invalidated at the end: the other rules still run, so that holds_unreached records whether
+  // the reading would hold but for this one (read by step()). Not behind an open sheet, whose
+  // solid-only rules do not run.
   const bool unreached = L.result.distance < -m_options.contact_tolerance && !L.through_contact;
   // Deep inside (past the normal form's band), Newton's basin about a penetration pair can be
   // small: a tracker seeded at a common point of a deep overlap, or carried there, whose
@@ -270,7 +272,7 @@ void Body_pair_tracker::judge(int k, bool first) {
         L.valid = false;
     }
   }
-  L.holds_unreached = unreached && L.valid;
+  L.holds_unreached = unreached && L.valid && !L.behind_sheet;
   if (unreached) L.valid = false;
 }
 

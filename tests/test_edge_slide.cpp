@@ -31,8 +31,10 @@ const Body& box() {
 
 // The upright peg's base at (x, y, z) against the box, z < 200 < z + 40: both bodies are prisms
 // (a disc and a square swept along z), so their signed distance combines the disc's against the
-// square in the plane with the heights'. Over the square, the shallower of the two depths;
-// outside it, the disc's gap or depth to it (past x = 210 at y = 100 the peg is beside the box).
+// square in the plane with the heights'. Both overlapping, the shallower of the two depths (the
+// plane's: the disc's depth across the square's nearest side, or past a corner its depth to the
+// corner); the disc clear of the square, its gap (past x = 210 at y = 100 the peg is beside the
+// box).
 double upright_exact(double x, double y, double z) {
   const double dx = std::max({0.0, -x, x - 200.0}), dy = std::max({0.0, -y, y - 200.0});
   const double plane = dx > 0.0 || dy > 0.0
@@ -118,10 +120,11 @@ double corner_velocity(double degrees, int axis) {
   const double a = degrees * M_PI / 180.0;
   return 50.0 * (axis == 0 ? std::cos(a) : std::sin(a));
 }
+// Through (205, 205), past the corner, a `phase` (a fraction of a step) before t = 0.55.
 Upright_run run_past_corner(double degrees, double phase, double z) {
-  // Through (205, 205) half-way, offset by the phase.
   const double vx = corner_velocity(degrees, 0), vy = corner_velocity(degrees, 1);
-  return run_upright(205.0 - 0.55 * vx + phase, 205.0 - 0.55 * vy + phase, vx, vy, z);
+  const double before = 0.55 - 0.01 * phase;
+  return run_upright(205.0 - before * vx, 205.0 - before * vy, vx, vy, z);
 }
 
 TEST(EdgeSlide, APegSlidOffABoxsCornerReadsTheShallowerDepth) {
@@ -133,7 +136,7 @@ TEST(EdgeSlide, APegSlidOffABoxsCornerReadsTheShallowerDepth) {
   }
   for (const double z : {195.0, 197.0})
     for (const double degrees : {20.0, 45.0, 75.0})
-      for (const double phase : {0.0, 0.7}) {
+      for (const double phase : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
         const Upright_run r = run_past_corner(degrees, phase, z);
         EXPECT_LE(r.worst, 1e-8) << degrees << " degrees, phase " << phase << ", z = " << z;
         EXPECT_EQ(r.wrong_sign, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
@@ -141,11 +144,11 @@ TEST(EdgeSlide, APegSlidOffABoxsCornerReadsTheShallowerDepth) {
       }
 }
 
-// Not yet (a bound on what is left, not a goal): 1 deep, the corner's pair (the side against
-// the box's vertical edge) has no tracker while the peg is inside (its seed, made apart, slid
-// onto a face's pair), and the cap's 1.0 is read for the last two rows before the peg comes
-// apart (0.62 and 0.76 off, by phase); 5 deep at one phase no tracker holds the corner's depth
-// for 4 rows after the motion check (1.76 off).
+// Not yet (today's figures as bounds, to hold what is left, not a goal): 1 deep, the corner's
+// pair (the side against the box's vertical edge) has no tracker while the peg is inside (its
+// seed, made apart, moved onto a face's pair), and the cap's 1.0 is read for the last two rows
+// before the peg comes apart (0.62 and 0.76 off, by phase); 5 deep, diagonally from 187.45, no
+// tracker holds the corner's depth for 4 rows after a motion check (1.76 off).
 TEST(EdgeSlide, APegSlidOffABoxsCornerIsOffForAFewRowsWhereNoTrackerHoldsTheCorner) {
   for (const double start : {180.0, 182.5}) {
     const Upright_run r = run_upright(start, start, 40.0, 40.0, 199.0);
@@ -153,22 +156,22 @@ TEST(EdgeSlide, APegSlidOffABoxsCornerIsOffForAFewRowsWhereNoTrackerHoldsTheCorn
     EXPECT_LE(r.worst, 0.8) << "start " << start;
     EXPECT_EQ(r.wrong_sign, 0) << "start " << start;
   }
-  const Upright_run r = run_past_corner(45.0, 1.9, 195.0);
+  const Upright_run r = run_upright(187.4546, 187.4546, 35.3553, 35.3553, 195.0);
   EXPECT_LE(r.off, 4);
   EXPECT_LE(r.worst, 1.8);
   EXPECT_EQ(r.wrong_sign, 0);
 }
 
 // Past the corner at 1 to 8 deep, five directions, three phases (75 runs of 101 rows), each row
-// against the closed form; prints a line per run. Before the shallower-depth trigger, 39 runs
-// had rows off (102 rows, up to 2.57); now 11 (15 rows, up to 1.76: in the runs looked into, no
-// tracker held the corner's pair in those rows). Never a wrong sign.
+// against the closed form; prints a line per run. Before the shallower-depth trigger, 41 runs
+// had rows off (114 rows, up to 2.74); now 11, all 1 deep (12 rows, up to 0.51: no tracker on
+// the corner's pair, above). The bounds are today's figures, to hold them. Never a wrong sign.
 TEST(EdgeSlide, APegSlidOffABoxsCornerInManyDirectionsIsOffInFewRows) {
   int runs_off = 0, rows_off = 0;
   double worst = 0.0;
   for (const double z : {192.0, 195.0, 197.0, 198.0, 199.0})
     for (const double degrees : {20.0, 30.0, 45.0, 60.0, 75.0})
-      for (const double phase : {0.0, 0.7, 1.9}) {
+      for (const double phase : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
         const Upright_run r = run_past_corner(degrees, phase, z);
         std::printf("z = %g, %g degrees, phase %g: worst %.3g, %d rows off, %d solved\n", z,
                     degrees, phase, r.worst, r.off, r.solved);
@@ -178,8 +181,8 @@ TEST(EdgeSlide, APegSlidOffABoxsCornerInManyDirectionsIsOffInFewRows) {
         worst = std::max(worst, r.worst);
       }
   EXPECT_LE(runs_off, 11);
-  EXPECT_LE(rows_off, 15);
-  EXPECT_LE(worst, 1.8);
+  EXPECT_LE(rows_off, 12);
+  EXPECT_LE(worst, 0.51);
 }
 
 // Tilted 0.3 rad about y, 2 deep, slid off the side and back onto the top: the tilted cap's rim
