@@ -324,9 +324,9 @@ double Body_pair_tracker::boxes_bound() {
 bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                    double best, bool force) {
   // Only past the normal form's band around contact (unless forced): there the tracked pair is
-  // the one the bodies met at. Deeper, it is a saddle of the distance that goes on existing after it
-  // stopped being the depth: a ball that passed the centre of a larger one still has its
-  // entry pair, deeper than the exit pair, and once out the other side the entry pair is
+  // the one the bodies met at. Deeper, it is a saddle of the distance that goes on existing
+  // after it stopped being the depth: a ball that passed the centre of a larger one still has
+  // its entry pair, deeper than the exit pair, and once out the other side the entry pair is
   // still there, negative, with the bodies apart.
   // Such a stale pair grows deeper as the bodies move on: the check runs again once the
   // depth grew by a hundredth of the smaller body since the last one (a pair that stays as
