@@ -129,7 +129,7 @@ bool edge_crosses_surface(const Primitive& A, const Rigid_pose_3& XA, const Prim
     if (P[s]->feature.dimension() == 1) {
       tangent[s] = f[s].d[0];
       on[s] = true;
-    } else if (held[s] == 1u || held[s] == 2u || (!held[s] && count > 0)) {
+    } else if (count > 0 && held[s] != 3u) {
       // One edge (a corner, two held parameters, is a point): the held one, or the trim's.
       tangent[s] = edges[0].along;
       on[s] = true;

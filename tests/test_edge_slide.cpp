@@ -108,25 +108,25 @@ TEST(EdgeSlide, APegSlidOntoABoxsTopFromItsSideReadsTheShallowerDepth) {
   EXPECT_EQ(r.solved, 0);
 }
 
-// Slid off the box's corner, 3 and 5 deep, diagonally and at 20 and 75 degrees to x: past the
-// corner the disc's depth to it becomes the least, and no frame axis bounds that (along each
-// the boxes overlap by more). The corner's pair (the peg's side against the top face's border
-// or the box's top edge there) was tracked from its first depth, but what was reported was the
-// cap's stale depth, the deeper, for up to 6 rows (up to 2.76 off) until the motion check: the
-// corner's pair held nothing, not having come in through contact, or held and was shallower.
-// Its becoming the shallower depth now triggers that check. Started at several phases of the
-// step against the corner.
-double corner_velocity(double degrees, int axis) {
-  const double a = degrees * M_PI / 180.0;
-  return 50.0 * (axis == 0 ? std::cos(a) : std::sin(a));
-}
-// Through (205, 205), past the corner, a `phase` (a fraction of a step) before t = 0.55.
+// The upright peg at 50 mm/s, `degrees` to x, through (205, 205) past the box's corner a
+// `phase` (a fraction of a step) before t = 0.55, its base at z; prints the run's figures.
 Upright_run run_past_corner(double degrees, double phase, double z) {
-  const double vx = corner_velocity(degrees, 0), vy = corner_velocity(degrees, 1);
+  const double a = degrees * M_PI / 180.0, vx = 50.0 * std::cos(a), vy = 50.0 * std::sin(a);
   const double before = 0.55 - 0.01 * phase;
-  return run_upright(205.0 - before * vx, 205.0 - before * vy, vx, vy, z);
+  const Upright_run r = run_upright(205.0 - before * vx, 205.0 - before * vy, vx, vy, z);
+  std::printf("z = %g, %g degrees, phase %.2f: worst %.3g, %d rows off, %d solved\n", z, degrees,
+              phase, r.worst, r.off, r.solved);
+  return r;
 }
 
+// Slid off the box's corner, 2 to 8 deep, in five directions at three phases, and diagonally 3
+// deep from three starts: past the corner the disc's depth to it becomes the least, and no
+// frame axis bounds that (along each the boxes overlap by more). The corner's pair (the peg's
+// side against the top face's border or the box's top edge there) was tracked from its first
+// depth, but what was reported was the cap's stale depth, the deeper, until the motion check:
+// the corner's pair held nothing, not having come in through contact, or held and was
+// shallower. Its becoming the shallower depth now triggers that check. Before, 33 of these 63
+// runs had rows off (up to 2.76).
 TEST(EdgeSlide, APegSlidOffABoxsCornerReadsTheShallowerDepth) {
   for (const double start : {180.0, 181.5, 182.5}) {
     const Upright_run r = run_upright(start, start, 40.0, 40.0, 197.0);
@@ -134,22 +134,40 @@ TEST(EdgeSlide, APegSlidOffABoxsCornerReadsTheShallowerDepth) {
     EXPECT_EQ(r.wrong_sign, 0) << "start " << start;
     EXPECT_EQ(r.solved, 0) << "start " << start;
   }
-  for (const double z : {195.0, 197.0})
-    for (const double degrees : {20.0, 45.0, 75.0})
+  for (const double z : {192.0, 195.0, 197.0, 198.0})
+    for (const double degrees : {20.0, 30.0, 45.0, 60.0, 75.0})
       for (const double phase : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
         const Upright_run r = run_past_corner(degrees, phase, z);
         EXPECT_LE(r.worst, 1e-8) << degrees << " degrees, phase " << phase << ", z = " << z;
         EXPECT_EQ(r.wrong_sign, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
-        EXPECT_EQ(r.solved, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
+        // (2 deep at 30 and 60 degrees, one or two rows are the certified solver's: exact,
+        // but no tracker held them.)
+        EXPECT_LE(r.solved, z < 198.0 ? 0 : 2)
+            << degrees << " degrees, phase " << phase << ", z = " << z;
       }
 }
 
 // Not yet (today's figures as bounds, to hold what is left, not a goal): 1 deep, the corner's
 // pair (the side against the box's vertical edge) has no tracker while the peg is inside (its
-// seed, made apart, moved onto a face's pair), and the cap's 1.0 is read for the last two rows
-// before the peg comes apart (0.62 and 0.76 off, by phase); 5 deep, diagonally from 187.45, no
-// tracker holds the corner's depth for 4 rows after a motion check (1.76 off).
+// seed, made apart, moved onto a face's pair), and the cap's 1.0 is read for the last one or
+// two rows before the peg comes apart: in the five directions, 11 of 15 runs (12 rows, up to
+// 0.51; before the trigger, 11 runs, 18 rows, up to 0.90), diagonally 0.62 and 0.76 off by
+// start. 5 deep, diagonally from 187.45 (50 mm/s), no tracker holds the corner's depth for 4
+// rows after a motion check (1.76 off). Never a wrong sign.
 TEST(EdgeSlide, APegSlidOffABoxsCornerIsOffForAFewRowsWhereNoTrackerHoldsTheCorner) {
+  int runs_off = 0, rows_off = 0;
+  double worst = 0.0;
+  for (const double degrees : {20.0, 30.0, 45.0, 60.0, 75.0})
+    for (const double phase : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
+      const Upright_run r = run_past_corner(degrees, phase, 199.0);
+      EXPECT_EQ(r.wrong_sign, 0) << degrees << " degrees, phase " << phase;
+      runs_off += r.off > 0;
+      rows_off += r.off;
+      worst = std::max(worst, r.worst);
+    }
+  EXPECT_LE(runs_off, 11);
+  EXPECT_LE(rows_off, 12);
+  EXPECT_LE(worst, 0.51);
   for (const double start : {180.0, 182.5}) {
     const Upright_run r = run_upright(start, start, 40.0, 40.0, 199.0);
     EXPECT_LE(r.off, 2) << "start " << start;
@@ -160,29 +178,6 @@ TEST(EdgeSlide, APegSlidOffABoxsCornerIsOffForAFewRowsWhereNoTrackerHoldsTheCorn
   EXPECT_LE(r.off, 4);
   EXPECT_LE(r.worst, 1.8);
   EXPECT_EQ(r.wrong_sign, 0);
-}
-
-// Past the corner at 1 to 8 deep, five directions, three phases (75 runs of 101 rows), each row
-// against the closed form; prints a line per run. Before the shallower-depth trigger, 41 runs
-// had rows off (114 rows, up to 2.74); now 11, all 1 deep (12 rows, up to 0.51: no tracker on
-// the corner's pair, above). The bounds are today's figures, to hold them. Never a wrong sign.
-TEST(EdgeSlide, APegSlidOffABoxsCornerInManyDirectionsIsOffInFewRows) {
-  int runs_off = 0, rows_off = 0;
-  double worst = 0.0;
-  for (const double z : {192.0, 195.0, 197.0, 198.0, 199.0})
-    for (const double degrees : {20.0, 30.0, 45.0, 60.0, 75.0})
-      for (const double phase : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
-        const Upright_run r = run_past_corner(degrees, phase, z);
-        std::printf("z = %g, %g degrees, phase %g: worst %.3g, %d rows off, %d solved\n", z,
-                    degrees, phase, r.worst, r.off, r.solved);
-        EXPECT_EQ(r.wrong_sign, 0) << degrees << " degrees, phase " << phase << ", z = " << z;
-        runs_off += r.off > 0;
-        rows_off += r.off;
-        worst = std::max(worst, r.worst);
-      }
-  EXPECT_LE(runs_off, 11);
-  EXPECT_LE(rows_off, 12);
-  EXPECT_LE(worst, 0.51);
 }
 
 // Tilted 0.3 rad about y, 2 deep, slid off the side and back onto the top: the tilted cap's rim
