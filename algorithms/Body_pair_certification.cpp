@@ -147,9 +147,24 @@ bool Body_pair_tracker::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_po
   mark_tracked();
   bool seeded = false;
   for (Candidate& C : m_candidates) {
-    if (C.tracked || C.contact_seeded) continue;
+    if (C.tracked) continue;
+    const int pa = key_a(C.key), pb = key_b(C.key);
+    // A pair seeded apart whose tracker left it (onto a neighbour's pair, or off the bodies) is
+    // seeded again once the motion may have brought it into contact: a peg 1 deep in a box's
+    // top, slid off its corner, had no tracker on its side against the box's vertical edge,
+    // seeded 7 apart, and read the cap's 1 where the corner's depth was 0.4.
+    if (C.contact_seeded) {
+      if (!(C.seeded_lower < HUGE_VAL)) continue;
+      const Approach moved = approach_bound(m_model_a->primitives()[pa].box,
+                                            m_model_b->primitives()[pb].box, C.seeded_at,
+                                            m_relative);
+      if (C.seeded_lower - moved.closer > m_options.contact_tolerance) continue;
+    }
     C.contact_seeded = true;
-    seed_pair(key_a(C.key), key_b(C.key), X_WA, X_WB);
+    const double lower = seed_pair(pa, pb, X_WA, X_WB);
+    // (Seeded in contact, or without a certificate: not again until the broad phase renews it.)
+    C.seeded_lower = lower > m_options.contact_tolerance ? lower : HUGE_VAL;
+    C.seeded_at = m_relative;
     seeded = true;
   }
   return seeded;

@@ -235,20 +235,22 @@ void Body_pair_tracker::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
     params = inner;
 }
 
-void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
-                                  const Rigid_pose_3& X_WB) {
+double Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
+                                    const Rigid_pose_3& X_WB) {
   const Primitive& A = m_model_a->primitives()[pa];
   const Primitive& B = m_model_b->primitives()[pb];
   Vec4 params = Vec4::Zero();
   if (closed_form_pair(A, B)) {
     add_live(pa, pb, params);
-    return;
+    return -HUGE_VAL;
   }
+  double lower = -HUGE_VAL;
   if (A.global_element >= 0 && B.global_element >= 0) {
     const Distance_result g = extremal_distance_between(
         m_model_a->hierarchy(), X_WA, A.global_element, m_model_b->hierarchy(), X_WB,
         B.global_element, m_options.seeding, m_workspace);
-    if (g.element_a < 0 || g.element_b < 0) return;  // nothing of the pair on the bodies
+    if (g.is_certified()) lower = g.lower_bound;
+    if (g.element_a < 0 || g.element_b < 0) return lower;  // nothing of the pair on the bodies
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
   } else {
@@ -257,6 +259,7 @@ void Body_pair_tracker::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   prefer_central(pa, pb, X_WA, X_WB, params);
   add_live(pa, pb, params);
   ++m_report.seeds;
+  return lower;
 }
 
 int Body_pair_tracker::find_candidate(std::uint64_t key) const {
@@ -346,11 +349,20 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       if (!certifiable(pa, pb) && !tracks(key)) seed_pair(pa, pb, X_WA, X_WB);
     } else {
       // The carried bound (with its pose, reach and carried sides) when it is the higher one;
-      // the slack in any case.
-      if (m_candidates[i].lower > m_next_candidates[j].lower)
-        m_next_candidates[j] = m_candidates[i];
-      else
-        m_next_candidates[j].slack = m_candidates[i].slack;
+      // the slack in any case, and so, for a pair seeded in contact whose solve certified it
+      // apart, that bound and pose (see seed_in_contact).
+      Candidate& next = m_next_candidates[j];
+      const Candidate& was = m_candidates[i];
+      if (was.lower > next.lower) {
+        next = was;
+      } else {
+        next.slack = was.slack;
+        if (was.seeded_lower < HUGE_VAL) {
+          next.contact_seeded = was.contact_seeded;
+          next.seeded_lower = was.seeded_lower;
+          next.seeded_at = was.seeded_at;
+        }
+      }
       ++i;
       ++j;
     }
@@ -829,8 +841,17 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
         step_all();
         m_apart_unheld = !(best <= m_options.contact_tolerance);
       }
-    } else if (seed_in_contact(X_WA, X_WB)) {
-      step_all();
+    } else {
+      // A pair seeded inside that reads deeper than the depth is checked before it is reported:
+      // a peg 1 deep slid off a box's corner had its cap's pair, just dropped by the deep check
+      // (the corner's 0.49 the depth), seeded again, and its 1 was read for a step or two.
+      const double depth = best;
+      if (seed_in_contact(X_WA, X_WB)) {
+        step_all();
+        if (depth < -m_options.contact_tolerance && best < depth - depth_tolerance(depth) &&
+            check_deep(X_WA, X_WB, best, true))
+          step_all();
+      }
     }
   }
   // Non-convex bodies whose surfaces crossed at the start: when none of the trackers seeded at

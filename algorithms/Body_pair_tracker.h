@@ -266,16 +266,18 @@ class Body_pair_tracker {
   // Seeds candidate pairs without a tracker that hold a pair closer than `best`.
   // True if it certified a pair whose surfaces meet (the bodies are not apart after all).
   bool check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best);
-  // In contact (check_vacated does not run): seeds the candidate pairs without a tracker, each
-  // once (entering pairs get none from the broad phase). Returns true if it seeded.
+  // In contact (check_vacated does not run): seeds the candidate pairs without a tracker once
+  // (entering pairs get none from the broad phase), and a pair seeded apart again once the
+  // motion may have closed the gap its seed's solve certified. True if it seeded.
   bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Sets Candidate::tracked for the candidates a live slot tracks.
   void mark_tracked();
   // A tracker (or closed form) on primitive pair (pa, pb) from parameters at time t; returns
   // its slot.
   int add_live(int pa, int pb, const Vec4& params);
-  // Seeds pair (pa, pb) from the global solver restricted to it (or its closed form).
-  void seed_pair(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // Seeds pair (pa, pb) from the global solver restricted to it (or its closed form). Returns
+  // that solve's certified lower bound on the pair's distance (-infinity without one).
+  double seed_pair(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Steps slot k at time t (evaluates the closed form), setting its validity.
   void step_live(int k);
   // Whether live tracker k's reading holds a pair of the bodies (Live::valid), and the flags it
@@ -340,6 +342,11 @@ class Body_pair_tracker {
     double tracked_distance = HUGE_VAL;
     int tracked_slot = -1;  // the live slot at that distance
     bool contact_seeded = false;  // seed_in_contact gave it a tracker
+    // The lower bound of the pair's distance that seed's solve certified, at X_AB = seeded_at
+    // (infinity: seeded in contact, or no certificate): while the motion since cannot have
+    // closed it, the pair is not seeded again.
+    double seeded_lower = HUGE_VAL;
+    Rigid_pose_3 seeded_at;
     // Its last restricted solve found the pair's own minimum, at or above the tracked one: a
     // stationary point no proving cutoff above the tracked minimum settles (check_vacated).
     bool holds_own_minimum = false;
