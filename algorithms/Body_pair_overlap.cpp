@@ -226,9 +226,14 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     // cutting a plane: the plane's point under the ball's lowest), and two sheets that cross
     // keep the hulls' depth, as `extremal distance --signed` reports it. (Against a tracked
     // depth both are solids: check_deep leaves sheets before it.)
+    // A witness on the other body's surface, to the seed's tolerance (centre_depth_seed's), is
+    // in it: a ball inside a cylinder, touching its cap from within, has its depth's pair there.
+    const double on = 1e-4 * std::max({1.0, std::abs(h.distance), box_diagonal(m_model_a->box()),
+                                       box_diagonal(m_model_b->box())});
     const bool test_a = closed(1), test_b = closed(0);
-    const bool a_in_b = test_a && inside_body(HB, X_WB, fa.p);
-    const bool b_in_a = test_b && inside_body(HA, X_WA, fb.p);
+    bool a_on_b = false, b_on_a = false;
+    const bool a_in_b = test_a && (inside_body(HB, X_WB, fa.p, on, &a_on_b) || a_on_b);
+    const bool b_in_a = test_b && (inside_body(HA, X_WA, fb.p, on, &b_on_a) || b_on_a);
     const bool all_in = (a_in_b || !test_a) && (b_in_a || !test_b);
     if (against && !missed ? !(a_in_b || b_in_a) : !all_in) return false;
   }

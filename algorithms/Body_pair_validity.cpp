@@ -221,8 +221,11 @@ void Body_pair_tracker::judge(int k, bool first) {
   //   it too, A's witness lies inside B: the bodies are nested, not apart (a ball inside a
   //   part's plate, its tracker gone over its pole onto the pair below it, read +17.8; found by
   //   a helper's probe). No distance: the row is the solver's depth until a tracker holds one.
-  if (L.valid && std::abs(L.result.distance) > m_options.contact_tolerance && A.is_surface() &&
-      B.is_surface() && closed(0) && closed(1)) {
+  // - in contact or apart, two faces' interior points have their normals opposed; alike, one
+  //   body lies inside the other there, touching it from within (a ball inside a cylinder
+  //   against its cap read 0 'contact' 2 deep, or 2e-8 apart, too small a gap for d's
+  //   direction to tell).
+  if (L.valid && A.is_surface() && B.is_surface() && closed(0) && closed(1)) {
     // At a pole, the limit of the normal (a ball inside a cylinder, its top pole under the
     // cap's centre, read apart by the gap to the cap).
     const auto outward = [](const Primitive& P, const Rigid_pose_3& X, const double* q, Vec3& n) {
@@ -238,7 +241,16 @@ void Body_pair_tracker::judge(int k, bool first) {
     };
     const double* q = L.result.params.data();
     Vec3 na, nb;
-    if (outward(B, *m_XB, q + 2, nb)) {
+    const bool interior =
+        L.result.on_edge == 0u && !on_trim_boundary(A, q) && !on_trim_boundary(B, q + 2);
+    const auto alike = [&] {
+      return outward(A, *m_XA, q, na) && outward(B, *m_XB, q + 2, nb) &&
+             na.dot(nb) > 0.5 * na.norm() * nb.norm();
+    };
+    if (!(L.result.distance < -m_options.contact_tolerance) && interior && alike()) {
+      L.valid = false;
+    } else if (std::abs(L.result.distance) > m_options.contact_tolerance &&
+               outward(B, *m_XB, q + 2, nb)) {
       if (L.result.distance < 0.0) {
         if (outward(A, *m_XA, q, na) &&
             (na.dot(nb) > 1e-6 * na.norm() * nb.norm() ||

@@ -929,7 +929,8 @@ Overlap_test overlap_of(const Distance_result& apart, const Distance_hierarchy& 
   return out;
 }
 
-bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W) {
+bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W,
+                 double surface_tolerance, bool* on_surface) {
   // The clearance the winding number needs: the certified distance from x to the surface.
   static const Body point = make_point_body();
   static const Distance_hierarchy HP(point);
@@ -939,7 +940,9 @@ bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec
   request.max_nodes = 20000;
   const Distance_result r =
       extremal_distance(HP, Rigid_pose_3(Mat3::Identity(), x_W), H, X_W, request);
-  if (!(r.lower_bound > 0.0)) return false;
+  const bool on = r.is_certified() && r.upper_bound <= surface_tolerance;
+  if (on_surface != nullptr) *on_surface = on;
+  if (on || !(r.lower_bound > 0.0)) return false;
   return winding_number(H, X_W, x_W, r.lower_bound).inside();
 }
 

@@ -196,7 +196,10 @@ struct Overlap_test {
 // Whether the world point x lies inside the closed body of H placed by X_W, certified: its
 // distance from the surface bounded away from 0 and the winding number decided. False when
 // outside, on the surface or undecided; the caller checks that the body is closed.
-[[nodiscard]] bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W);
+// Within `surface_tolerance` of the surface (certified), x is on it: false, and `on_surface`
+// (if given) is set (the winding number there would need cells as small as the distance).
+[[nodiscard]] bool inside_body(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x_W,
+                               double surface_tolerance = 0.0, bool* on_surface = nullptr);
 
 // A lower bound on the signed distance of two bodies inside these world boxes: their distance
 // when apart, else minus the smallest overlap along a coordinate axis (overlap(n) of the hulls
