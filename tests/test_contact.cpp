@@ -335,6 +335,15 @@ TEST(Contact, APoleSlidingOnAPlaneKeepsItsDepth) {
     }
 }
 
+// The signed distance of a ball of radius r centred at c from an upright cylinder (radius rho,
+// height h, its base centre at the origin): the cylinder's signed distance at c, less r.
+double ball_to_cylinder(const Vec3& c, double r, double rho, double h) {
+  const double dr = std::hypot(c.x(), c.y()) - rho, dz = std::max(-c.z(), c.z() - h);
+  const double s = dr <= 0.0 && dz <= 0.0 ? std::max(dr, dz)
+                                          : std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
+  return s - r;
+}
+
 // A ball rising through a cylinder (a solid) and out of its top cap, on and off the axis
 // (found by a helper's probe). Inside, the depth is the shortest way out, the side wall's
 // until the cap comes nearer; the side wall's pair stays a penetration pair of its own, as
@@ -342,12 +351,7 @@ TEST(Contact, APoleSlidingOnAPlaneKeepsItsDepth) {
 // was out, 0.5 above the cap.
 TEST(Contact, ABallRisingInACylinderLeavesThroughItsCap) {
   const Body ball = make_sphere_body(0.5), cylinder = make_cylinder_body(2.0, 6.0);
-  auto exact = [](const Vec3& c) {  // the cylinder's signed distance at c, less the radius
-    const double dr = std::hypot(c.x(), c.y()) - 2.0, dz = std::max(-c.z(), c.z() - 6.0);
-    const double s = dr <= 0.0 && dz <= 0.0 ? std::max(dr, dz)
-                                            : std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
-    return s - 0.5;
-  };
+  auto exact = [](const Vec3& c) { return ball_to_cylinder(c, 0.5, 2.0, 6.0); };
   // The check runs each time the ball has moved a tenth of its box's diagonal (0.17): at 4 per
   // second it lands on every change of the nearest face; at 1 per second a stale pair can be
   // off by up to that much before its check, never by the sign.
@@ -385,12 +389,7 @@ TEST(Contact, ABallRisingInACylinderLeavesThroughItsCap) {
 // Every row against the closed form.
 TEST(Contact, ABallTouchingACylindersCapFromWithinReadsItsDepth) {
   const Body ball = make_sphere_body(1.0), cylinder = make_cylinder_body(10.0, 40.0);
-  auto exact = [](const Vec3& c) {  // the cylinder's signed distance at c, less the radius
-    const double dr = std::hypot(c.x(), c.y()) - 10.0, dz = std::max(-c.z(), c.z() - 40.0);
-    const double s = dr <= 0.0 && dz <= 0.0 ? std::max(dr, dz)
-                                            : std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
-    return s - 1.0;
-  };
+  auto exact = [](const Vec3& c) { return ball_to_cylinder(c, 1.0, 10.0, 40.0); };
   const double dt = 1e-2;
   for (const double degrees : {0.0, 30.0})
     for (const bool ball_first : {true, false}) {
