@@ -221,10 +221,9 @@ void Body_pair_tracker::judge(int k, bool first) {
   //   it too, A's witness lies inside B: the bodies are nested, not apart (a ball inside a
   //   part's plate, its tracker gone over its pole onto the pair below it, read +17.8; found by
   //   a helper's probe). No distance: the row is the solver's depth until a tracker holds one.
-  // - in contact or apart, two faces' interior points have their normals opposed; alike, one
-  //   body lies inside the other there, touching it from within (a ball inside a cylinder
-  //   against its cap read 0 'contact' 2 deep, or 2e-8 apart, too small a gap for d's
-  //   direction to tell).
+  // - in contact or just apart, two faces' interior points have their normals opposed; alike,
+  //   one body lies inside the other there, touching it from within (a ball inside a cylinder
+  //   against its cap read 0 'contact' 2 deep, or 2e-8 apart, its tracker lagging).
   if (L.valid && A.is_surface() && B.is_surface() && closed(0) && closed(1)) {
     // At a pole, the limit of the normal (a ball inside a cylinder, its top pole under the
     // cap's centre, read apart by the gap to the cap).
@@ -241,25 +240,23 @@ void Body_pair_tracker::judge(int k, bool first) {
     };
     const double* q = L.result.params.data();
     Vec3 na, nb;
-    const bool interior =
-        L.result.on_edge == 0u && !on_trim_boundary(A, q) && !on_trim_boundary(B, q + 2);
-    const auto alike = [&] {
-      return outward(A, *m_XA, q, na) && outward(B, *m_XB, q + 2, nb) &&
-             na.dot(nb) > 0.5 * na.norm() * nb.norm();
-    };
-    if (!(L.result.distance < -m_options.contact_tolerance) && interior && alike()) {
+    // (Near contact only: apart, the rule below reads the same from d.)
+    const double d = L.result.distance, tol = m_options.contact_tolerance;
+    const bool near = d >= -tol && d <= 1e3 * tol && L.result.on_edge == 0u &&
+                      !on_trim_boundary(A, q) && !on_trim_boundary(B, q + 2);
+    if (near && outward(A, *m_XA, q, na) && outward(B, *m_XB, q + 2, nb) &&
+        na.dot(nb) > 0.5 * na.norm() * nb.norm()) {
       L.valid = false;
-    } else if (std::abs(L.result.distance) > m_options.contact_tolerance &&
-               outward(B, *m_XB, q + 2, nb)) {
-      if (L.result.distance < 0.0) {
+    } else if (std::abs(d) > tol && outward(B, *m_XB, q + 2, nb)) {
+      if (d < 0.0) {
         if (outward(A, *m_XA, q, na) &&
             (na.dot(nb) > 1e-6 * na.norm() * nb.norm() ||
              normal_across_edge(A, *m_XA, q, L.result.on_edge & 3u, nb) ||
              normal_across_edge(B, *m_XB, q + 2, L.result.on_edge >> 2, na)))
           L.valid = false;
       } else {
-        const Vec3 d = L.result.point_b - L.result.point_a;
-        if (nb.dot(d) > 1e-6 * nb.norm() * d.norm()) L.valid = false;
+        const Vec3 gap = L.result.point_b - L.result.point_a;
+        if (nb.dot(gap) > 1e-6 * nb.norm() * gap.norm()) L.valid = false;
       }
     }
   }
