@@ -1395,12 +1395,19 @@ Distance_result Solver::run() {
     }
   }
 
-  // Floating-point resolution of the scene: coordinates are good to a few ulps of their size.
-  const Bbox_3 wa = transformed(m_side[0].h->box(), *m_side[0].X);
-  const Bbox_3 wb = transformed(m_side[1].h->box(), *m_side[1].X);
+  // Floating-point resolution of the scene: coordinates are good to a few ulps of their size,
+  // in the world and in the body frames they were placed from (a part modelled in assembly
+  // coordinates, 1.7e3 from its frame's origin, placed near the world's: its world points
+  // carry the rounding of 1.7e3, and a ball through it read 2e-13 'apart').
   double coord = 0.0;
-  for (const Bbox_3& b : {wa, wb})
-    for (int k = 0; k < 3; ++k) coord = std::max({coord, std::abs(b.min(k)), std::abs(b.max(k))});
+  for (int side = 0; side < 2; ++side) {
+    const Bbox_3& body = m_side[side].h->box();
+    const Bbox_3 world = transformed(body, *m_side[side].X);
+    for (int k = 0; k < 3; ++k)
+      coord = std::max({coord, std::abs(world.min(k)), std::abs(world.max(k)),
+                        std::abs(body.min(k)), std::abs(body.max(k)),
+                        std::abs(m_side[side].X->translation()[k])});
+  }
   m_resolution = 16.0 * std::numeric_limits<double>::epsilon() * std::max(coord, 1e-300);
 
   Distance_result result;

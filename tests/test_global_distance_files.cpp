@@ -94,6 +94,22 @@ TEST(DistanceFiles, StepBoxAgainstPointMatchesClosedForm) {
   }
 }
 
+// A part modelled far from its frame's origin (bug29478.stp: one sheet 1.7e3 mm out, in
+// assembly coordinates) placed at the world's: its world points carry the rounding of 1.7e3,
+// so a ball that crosses it must read 'intersecting', not the rounding as a gap (read
+// 'converged', 2.3e-13 apart, before the solver's resolution counted the body frames).
+TEST(DistanceFiles, APartFarFromItsFramesOriginMeetsABallThatCrossesIt) {
+  for (const char* pose : {"-1661.05,-261.2,-1517.76", "-1661.0,-261.0,-1517.7",
+                           "-1660.95,-261.5,-1517.8"}) {
+    const Cli_run r = run("distance sphere:0.45 " + k_data + "/step/bug29478.stp --pose-b " +
+                          pose + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["status"], "intersecting") << pose;
+    EXPECT_EQ(j["distance"].get<double>(), 0.0) << pose;
+  }
+}
+
 TEST(DistanceFiles, BadFileIsExitOneNamingTheFile) {
   const Cli_run missing = run("distance /nonexistent/part.step sphere:1 --json");
   EXPECT_EQ(missing.exit_code, 1);
