@@ -859,9 +859,13 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   // may be one (see seed_overlap). At the start's poses only (start() may run before a step).
   if (m_meets_at_start) {
     m_meets_at_start = false;
-    if (!(best < -m_options.contact_tolerance) && same_pose(m_relative, m_start_relative) &&
-        seed_overlap(m_start_solve, X_WA, X_WB, true))
-      step_all();
+    if (same_pose(m_relative, m_start_relative)) {
+      if (!(best < -m_options.contact_tolerance) && seed_overlap(m_start_solve, X_WA, X_WB, true))
+        step_all();
+      // The surfaces cross here: a tracker reading apart is no answer (a box started across a
+      // sheet's border read +21, the hulls' depth with the sheet's sign, where it is -21).
+      if (!(best <= m_options.contact_tolerance)) m_apart_unheld = true;
+    }
   }
   if (!std::isfinite(best)) {
     // Nothing on the bodies (witnesses left them, or trackers wandering in a deep overlap): the

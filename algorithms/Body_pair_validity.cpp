@@ -266,6 +266,21 @@ void Body_pair_tracker::judge(int k, bool first) {
   if (L.valid && L.result.distance < -m_options.contact_tolerance && closed(0) && closed(1) &&
       L.result.distance < -boxes_bound())
     L.valid = false;
+  // A solid against an open sheet: a depth puts the sheet's witness inside the solid (in from
+  // the solid's witness along its normal by the depth), so inside the solid's box. Outside it,
+  // the reading is a stale pair (a box that clipped a plane's border and left past it read -10
+  // to -28 while 2 to 18 apart, its tracker in the normal form's band).
+  if (L.valid && L.result.distance < -m_options.contact_tolerance && closed(0) != closed(1) &&
+      !MA.body().is_point && !MB.body().is_point) {
+    const bool solid_a = closed(0);
+    const Bbox_3& box = (solid_a ? MA : MB).box();
+    const Vec3 x = (solid_a ? *m_XA : *m_XB)
+                       .inverse()
+                       .apply_point(solid_a ? L.result.point_b : L.result.point_a);
+    const double margin = m_options.contact_tolerance + 1e-9 * internal::box_diagonal(box);
+    for (int c = 0; c < 3; ++c)
+      if (x[c] < box.min(c) - margin || x[c] > box.max(c) + margin) L.valid = false;
+  }
   // A B-rep edge against a face, inside: the same opposition, against the edge's wedge.
   if (L.valid && L.result.distance < -m_options.contact_tolerance && closed(0) && closed(1)) {
     const bool edge_a = A.kind == Primitive_kind::Edge && B.is_surface();
