@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "algorithms/Extremal_tracker.h"
@@ -285,7 +286,12 @@ class Body_pair_tracker {
   void judge(int k, bool first);
   // Steps every live slot not yet stepped at this step, with up to three hand-overs each.
   void step_pending();
-  // True when a live slot tracks primitive pair `key` (see pair_key).
+  // m_live_keys: the live slots' (key, slot), sorted; a slot killed or reused since no longer
+  // matches its entry (the lookups below check).
+  void index_live();
+  // The first index into m_live_keys at `key`.
+  std::size_t first_live(std::uint64_t key) const;
+  // True when a live slot tracks primitive pair `key` (see pair_key), by m_live_keys.
   bool tracks(std::uint64_t key) const;
   // Replaces a seed on a patch side by an interior pair at the same distance, if there is one.
   void prefer_central(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -420,6 +426,7 @@ class Body_pair_tracker {
   std::vector<Kept_proof> m_proofs;
   std::vector<Kept_bound> m_bounds;
   std::vector<int> m_order;  // scratch of keep_proofs
+  std::vector<std::pair<std::uint64_t, int>> m_live_keys;  // see index_live
   // Scratch of plan_partial_solve.
   std::vector<Sub_patch_pair> m_restarts;
   std::vector<unsigned char> m_keep_proof, m_keep_bound;
