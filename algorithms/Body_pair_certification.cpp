@@ -247,6 +247,8 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       C.reach = {HUGE_VAL, HUGE_VAL};
       C.reach_at = m_relative;
       C.carried = {0u, 0u};
+      m_kept_proof_total -= C.proof_count;
+      m_kept_bound_total -= C.bound_count;
       C.proof_count = C.bound_count = C.solve_count = 0;
       continue;
     }
@@ -502,12 +504,16 @@ void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool par
   const std::vector<Bound_proof>& bounds = m_workspace.bound_proofs();
   // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
   // below, which keeps the order within each range.
-  if (!partial) C.proof_count = C.bound_count = 0;
-  std::size_t live_proofs = proofs.size(), live_bounds = bounds.size();
-  for (const Candidate& c : m_candidates) {
-    live_proofs += static_cast<std::size_t>(c.proof_count);
-    live_bounds += static_cast<std::size_t>(c.bound_count);
+  if (!partial) {
+    m_kept_proof_total -= C.proof_count;
+    m_kept_bound_total -= C.bound_count;
+    C.proof_count = C.bound_count = 0;
   }
+  // (Totals kept as counts change: summed over the candidates at every solve, they were a
+  // fifth of a step's time against a mesh of thousands of candidate pairs.)
+  const std::size_t live_proofs = proofs.size() + static_cast<std::size_t>(m_kept_proof_total);
+  const std::size_t live_bounds = bounds.size() + static_cast<std::size_t>(m_kept_bound_total);
+  const int counted_proofs = C.proof_count, counted_bounds = C.bound_count;
   // Ranges of re-solved or dropped candidates are stale: compact when they dominate, in place
   // (ranges slid down in the order they were written), so the pools keep their capacity.
   if (m_proofs.size() > 2 * live_proofs + 1024 || m_bounds.size() > 2 * live_bounds + 4096) {
@@ -569,6 +575,8 @@ void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool par
       }
   for (const Bound_proof& b : bounds) m_bounds.push_back({b, current});
   C.bound_count = static_cast<int>(m_bounds.size()) - C.bound_begin;
+  m_kept_proof_total += C.proof_count - counted_proofs;
+  m_kept_bound_total += C.bound_count - counted_bounds;
 }
 
 }  // namespace extremal

@@ -406,6 +406,11 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
     if (it == m_next_candidates.end() || it->key != key) kill(static_cast<int>(k));
   }
   m_candidates.swap(m_next_candidates);
+  m_kept_proof_total = m_kept_bound_total = 0;
+  for (const Candidate& c : m_candidates) {
+    m_kept_proof_total += c.proof_count;
+    m_kept_bound_total += c.bound_count;
+  }
   m_last_relative = relative;
   m_broad_reach = reach;
   ++m_report.broad_phases;

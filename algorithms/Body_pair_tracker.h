@@ -425,6 +425,9 @@ class Body_pair_tracker {
   };
   std::vector<Kept_proof> m_proofs;
   std::vector<Kept_bound> m_bounds;
+  // The candidates' proof_count and bound_count summed: the entries of m_proofs and m_bounds
+  // still read (the rest are stale ranges, compacted away by keep_proofs).
+  long m_kept_proof_total = 0, m_kept_bound_total = 0;
   std::vector<int> m_order;  // scratch of keep_proofs
   std::vector<std::pair<std::uint64_t, int>> m_live_keys;  // see index_live
   // Scratch of plan_partial_solve.
