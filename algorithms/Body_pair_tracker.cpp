@@ -475,6 +475,10 @@ int Body_pair_tracker::place(int pa, int pb, const Vec4& params, const Rigid_pos
 }
 
 void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  // An open sheet A against a solid B: the solid's normal tells inside from apart (a solid
+  // that passed through a sheet and left it behind read minus its distance: the right pair
+  // held nothing, and another, 0.16 farther, was reported).
+  m_options.tracker.sign_from_b = !closed(0) && closed(1);
   for (std::size_t k = 0; k < m_live.size(); ++k)
     if (m_live[k].alive) kill(static_cast<int>(k));
   m_candidates.clear();

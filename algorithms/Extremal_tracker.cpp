@@ -157,6 +157,11 @@ double Extremal_tracker::signed_distance(unsigned on_edge, const Vec4& params) c
   };
   const Vec3 ab = m_system.b.p - m_system.a.p;
   const double len = m_system.distance;  // |ab| = |d|
+  const int na = m_a.dimension();
+  if (m_options.sign_from_b && m_b.dimension() == 2 && !((on_edge >> na) & 3u)) {
+    const Vec3 m = outward_direction(m_b, m_system.b, params.data() + na, m_system.outward_b);
+    if (has_direction(m)) return ab.dot(m) > 0.0 ? -len : len;
+  }
   if (m_a.dimension() == 2 && !(on_edge & 3u)) {
     const Vec3 m = outward_direction(m_a, m_system.a, params.data(), m_system.outward_a);
     return ab.dot(m) < 0.0 && has_direction(m) ? -len : len;

@@ -28,6 +28,10 @@ struct Tracker_options {
   // The normal form is used while |d| is below this fraction of the smaller feature size (and
   // left above twice that): the hand-over band around contact.
   double contact_band = 0.05;
+  // The distance's sign from B's outward normal wherever B's witness is an interior point of a
+  // surface (else as below): for an open sheet A against a solid B, whose inside the sheet's
+  // normal does not tell (a solid apart behind a sheet read minus its distance).
+  bool sign_from_b = false;
 
   static Tracker_options with_gain(double k) {
     Tracker_options o;
@@ -57,7 +61,8 @@ struct Track_result {
   double time = 0.0;
   // Signed extremal distance: positive apart, zero at tangential contact, negative inside (the
   // local maximum penetration depth). Its sign comes from A's outward normal when A is a
-  // surface, else from B's; between curves and points it is |f - h|.
+  // surface, else from B's (B's first with Tracker_options::sign_from_b); between curves and
+  // points it is |f - h|.
   double distance = 0.0;
   Vec3 point_a = Vec3::Zero();  // witness on A, world
   Vec3 point_b = Vec3::Zero();  // witness on B, world

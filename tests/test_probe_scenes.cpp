@@ -120,5 +120,45 @@ TEST(ProbeScenes, ABoxLeavingPastASheetsBorderIsApart) {
   EXPECT_LE(run.worst_apart, 1e-6);
 }
 
+// scripts/probe-scenes.py --seed 4 --files-only, scene 22: OCC26308-Face.stp's sheet (A,
+// static) with linkrods.step (B) passing through it and leaving it behind (poses from t = 1.08
+// to 1.28, the table rows). Once out, the pair holding the minimum read minus its distance
+// (the sheet's normal points towards the rods) and held nothing; another, 0.16 farther, was
+// reported. A sheet has no inside: the solid's normal says apart.
+TEST(ProbeScenes, ASolidLeftBehindASheetIsApart) {
+  const io::Model sheet = io::read_model(shared_data("step/OCC26308-Face.stp"));
+  const io::Model rods = io::read_model(shared_data("step/linkrods.step"));
+  const Rigid_pose_3 X_WA =
+      Rigid_pose_3::from_quaternion(Vec3(1661.6288744351295, -789.5754570618766, 735.2243418565573),
+                                    0.21512292210556952, -0.07840289961895039,
+                                    0.40138812975291893, 0.8868273129587043) *
+      sheet.bodies.at(0).placement;
+  const std::vector<std::array<double, 8>> rows = {
+      {1.08, 2.833413791339971, -3.140800725326649, -8.95685422692118, 0.6378428463913881,
+       0.43606266360134627, 0.5473529552847413, 0.32157518415028763},
+      {1.12, 3.6361233308745375, -0.31293144637548576, -9.556354210515696, 0.6292393697316897,
+       0.44263014313658855, 0.5557336307554902, 0.31511347735993395},
+      {1.16, 4.4403125211061445, 2.5148568292679627, -10.15483908980724, 0.6204917085498878,
+       0.4490961979696796, 0.563986964880764, 0.30857956516043533},
+      {1.2, 5.246010892032923, 5.342556837646892, -10.752353944879296, 0.6116018672935861,
+       0.45545934646251673, 0.5721110664835424, 0.3019749447387977},
+      {1.24, 6.053246590471685, 8.170161395702376, -11.348944744853599, 0.6025718829896695,
+       0.4617181305570559, 0.58010407399927, 0.29530112948417775},
+      {1.28, 6.862046354261065, 10.997663407856802, -11.944658305758887, 0.5934038247775372,
+       0.4678711161094134, 0.5879641559024195, 0.2885596486411037}};
+  std::vector<Keyframe> frames;
+  for (const auto& r : rows)
+    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
+                                                          r[6], r[7]) *
+                                rods.bodies.at(0).placement});
+  const Motion motion = Motion::keyframes(frames, Motion::Type::Table);
+  const Probe_run run =
+      run_probe(sheet.bodies.at(0), X_WA, rods.bodies.at(0), motion, 1.08, 1.28, 0.04);
+  EXPECT_EQ(run.read_apart_while_overlapping, 0);
+  EXPECT_GE(run.apart_rows, 3);
+  EXPECT_GE(run.overlapping_rows, 1);
+  EXPECT_LE(run.worst_apart, 1e-8);
+}
+
 }  // namespace
 }  // namespace extremal
