@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes random probe scenes: two bodies, one passing the other while it turns.
 
-    scripts/probe-scenes.py OUT_DIR [--seed S] [--count N] [--steps K] [--files-only]
+    scripts/probe-scenes.py OUT_DIR [--seed S] [--count N] [--steps K] [--files-only] [--heavy]
     ./build/bench/verify_report OUT_DIR/*.json --every 5 --rows
 
 Body B (a shape spec or a file of ../shared/data) turns about its box centre while that centre
@@ -35,6 +35,16 @@ FILES = [
     "iges/OCC8842_cylinder_Ideas.igs",
     "mesh/cube.ply",
     "mesh/shape.stl",
+]
+# Larger parts (--heavy): a horn of 110 faces, a turbine's open shell, a hammer of 45 trimmed
+# faces, an assembly of 18 solids, a triangulated torus.
+HEAVY_FILES = [
+    "step/bug27693_cornetta-step.stp",
+    "step/ec_turbine-A.stp",
+    "iges/hammer.iges",
+    "step/as1-oc-214-mat.stp",
+    "step/OCC22459-TEST2.stp",
+    "mesh/mesh.modifier.PGPRemesh.torus.ply",
 ]
 
 
@@ -128,11 +138,14 @@ def shape_spec(shape):
     return "plane:%r,%r" % tuple(shape["size"])
 
 
-def write_scene(rng, out_dir, name, steps, files_only, binary):
-    choices = FILES if files_only else FILES + ["shape"] * 4
+def write_scene(rng, out_dir, name, steps, files_only, heavy, binary):
+    files = FILES + HEAVY_FILES if heavy else FILES
+    choices = files if files_only else files + ["shape"] * 4
     pick_a, pick_b = rng.choice(choices), rng.choice(choices)
+    if heavy and pick_a not in HEAVY_FILES and pick_b not in HEAVY_FILES:
+        pick_a = rng.choice(HEAVY_FILES)
     if pick_a == "shape" and pick_b == "shape":
-        pick_b = rng.choice(FILES)
+        pick_b = rng.choice(files)
     # A file fixes the scale; a shape follows the other body's.
     size = 5.0
     if pick_a != "shape":
@@ -191,6 +204,8 @@ def main():
     ap.add_argument("--count", type=int, default=10)
     ap.add_argument("--steps", type=int, default=101)
     ap.add_argument("--files-only", action="store_true", help="both bodies from ../shared/data")
+    ap.add_argument("--heavy", action="store_true",
+                    help="one body at least from the larger parts (cornetta, turbine, hammer, as1, ...)")
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "cli", "extremal"))
     args = ap.parse_args()
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1 << 30)
@@ -200,7 +215,7 @@ def main():
         rng = random.Random(seed * 1000 + k)
         name = "probe_%d_%d" % (seed, k)
         path, pa, pb, miss = write_scene(rng, args.out_dir, name, args.steps, args.files_only,
-                                         args.binary)
+                                         args.heavy, args.binary)
         print("%s: %s against %s, miss %.2f of the box radii" % (path, pa, pb, miss))
     return 0
 
