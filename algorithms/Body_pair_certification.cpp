@@ -397,7 +397,7 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
 const Rigid_pose_3& Body_pair_tracker::Motions::b(int k) {
   if (!(m_made_b & (1u << k))) {
     // X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
-    const Solve_pose& s = m_c.solves[k];
+    const Solve_pose& s = m_solves[k];
     m_length[k] = s.a.translation().cwiseAbs().maxCoeff() +
                   m_relative.translation().cwiseAbs().maxCoeff() +
                   s.relative.translation().cwiseAbs().maxCoeff();
@@ -417,7 +417,7 @@ const Rigid_pose_3& Body_pair_tracker::Motions::a(int k) {
 
 bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
   if (C.proof_count == 0) return false;
-  Motions m(C, m_relative);
+  Motions m(solves_of(C), m_relative);
   reach = {HUGE_VAL, HUGE_VAL};
   for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
     const Gradient_proof& p = m_proofs[i].proof;
@@ -431,7 +431,7 @@ bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& r
 
 double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
   if (C.bound_count == 0) return -HUGE_VAL;
-  Motions m(C, m_relative);
+  Motions m(solves_of(C), m_relative);
   // A pair's bound less how far the primitives can have come closer since its solve (as the
   // carried bound decays) often clears `need` already: then it is not re-bounded. (A tracked
   // pair's own check re-bounds only the few pairs about its tracked basin.)
@@ -443,7 +443,7 @@ double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
   for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
     const int k = m_bounds[i].solve;
     if (!(made & (1u << k))) {
-      closer[k] = approach_bound(box_a, box_b, C.solves[k].relative, m_relative).closer;
+      closer[k] = approach_bound(box_a, box_b, solves_of(C)[k].relative, m_relative).closer;
       made |= 1u << k;
     }
     double b = m_bounds[i].proof.lower - closer[k];
@@ -459,7 +459,7 @@ bool Body_pair_tracker::plan_partial_solve(const Candidate& C, int element_a, in
                                            double& lower, std::array<double, 2>& reach) {
   if (C.solve_count == 0 || C.solve_count >= k_kept_solves || C.bound_count + C.proof_count == 0)
     return false;
-  Motions m(C, m_relative);
+  Motions m(solves_of(C), m_relative);
   m_restarts.clear();
   m_keep_bound.assign(static_cast<std::size_t>(C.bound_count), 0);
   m_keep_proof.assign(static_cast<std::size_t>(C.proof_count), 0);
@@ -499,6 +499,25 @@ bool Body_pair_tracker::plan_partial_solve(const Candidate& C, int element_a, in
   return m_restarts.size() <= 2 * static_cast<std::size_t>(max_nodes);
 }
 
+Body_pair_tracker::Solve_pose* Body_pair_tracker::solves_of(Candidate& C) {
+  if (C.solve_block < 0) {
+    if (!m_free_solve_blocks.empty()) {
+      C.solve_block = m_free_solve_blocks.back();
+      m_free_solve_blocks.pop_back();
+    } else {
+      C.solve_block = static_cast<int>(m_solve_poses.size());
+      m_solve_poses.resize(m_solve_poses.size() + k_kept_solves);
+    }
+  }
+  return m_solve_poses.data() + C.solve_block;
+}
+
+void Body_pair_tracker::release_solves(Candidate& C) {
+  if (C.solve_block >= 0) m_free_solve_blocks.push_back(C.solve_block);
+  C.solve_block = -1;
+  C.solve_count = 0;
+}
+
 void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
   const std::vector<Gradient_proof>& proofs = m_workspace.gradient_proofs();
   const std::vector<Bound_proof>& bounds = m_workspace.bound_proofs();
@@ -536,6 +555,7 @@ void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool par
     compact(m_bounds, &Candidate::bound_begin, &Candidate::bound_count);
   }
   // The solves the kept proofs still refer to, renumbered in order, then this one.
+  Solve_pose* kept = solves_of(C);
   std::array<int, k_kept_solves> renumber;
   renumber.fill(-1);
   int solves = 0;
@@ -548,11 +568,11 @@ void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool par
     for (int k = 0; k < C.solve_count; ++k)
       if (used[k]) {
         renumber[k] = solves;
-        C.solves[solves++] = C.solves[k];
+        kept[solves++] = kept[k];
       }
   }
   const int current = solves;
-  C.solves[solves++] = at;
+  kept[solves++] = at;
   C.solve_count = solves;
   const int old_proofs = C.proof_begin, old_bounds = C.bound_begin;
   C.proof_begin = static_cast<int>(m_proofs.size());

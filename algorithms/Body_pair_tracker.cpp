@@ -371,6 +371,7 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
   while (i < m_candidates.size() || j < m_next_candidates.size()) {
     if (j == m_next_candidates.size() ||
         (i < m_candidates.size() && m_candidates[i].key < m_next_candidates[j].key)) {
+      release_solves(m_candidates[i]);
       drop(m_candidates[i++].key);
     } else if (i == m_candidates.size() || m_next_candidates[j].key < m_candidates[i].key) {
       const std::uint64_t key = m_next_candidates[j++].key;
@@ -382,10 +383,11 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       // the slack in any case, and so, for a pair seeded in contact whose solve certified it
       // apart, that bound and pose (see seed_in_contact).
       Candidate& next = m_next_candidates[j];
-      const Candidate& was = m_candidates[i];
+      Candidate& was = m_candidates[i];
       if (was.lower > next.lower) {
         next = was;
       } else {
+        release_solves(was);  // (its proofs go with it)
         next.slack = was.slack;
         if (was.seeded_lower < HUGE_VAL) {
           next.contact_seeded = was.contact_seeded;
@@ -484,6 +486,8 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   m_candidates.clear();
   m_proofs.clear();
   m_bounds.clear();
+  m_solve_poses.clear();
+  m_free_solve_blocks.clear();
   m_started = true;
   m_deep_checked = HUGE_VAL;
   const Distance_result g = global_solve(X_WA, X_WB);

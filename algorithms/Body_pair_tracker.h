@@ -340,7 +340,10 @@ class Body_pair_tracker {
     // When the carried bound or the reach runs out, check_vacated checks them again at the
     // current pose instead of solving again, and solves again only the pairs that fail.
     int proof_begin = 0, proof_count = 0, bound_begin = 0, bound_count = 0;
-    std::array<Solve_pose, k_kept_solves> solves;
+    // Its kept solves' poses: m_solve_poses[solve_block, + solve_count) (a block of
+    // k_kept_solves made on its first kept solve; -1: none). Kept apart from the candidate,
+    // which the broad phase sorts, copies and mostly drops untouched.
+    int solve_block = -1;
     int solve_count = 0;
     bool tracked = false;  // scratch of mark_tracked: a live slot tracks the pair
     // Scratch of mark_tracked: the least distance of the pair's live trackers whose witnesses
@@ -381,7 +384,8 @@ class Body_pair_tracker {
   // rounding scales with; each made on first use.
   class Motions {
    public:
-    Motions(const Candidate& C, const Rigid_pose_3& relative) : m_c(C), m_relative(relative) {}
+    Motions(const Solve_pose* solves, const Rigid_pose_3& relative)
+        : m_solves(solves), m_relative(relative) {}
     const Rigid_pose_3& b(int k);
     const Rigid_pose_3& a(int k);
     double length(int k) {
@@ -395,7 +399,7 @@ class Body_pair_tracker {
       Slot() {}
       Rigid_pose_3 pose;
     };
-    const Candidate& m_c;
+    const Solve_pose* m_solves;  // the candidate's kept solves
     const Rigid_pose_3& m_relative;
     Slot m_b[k_kept_solves], m_a[k_kept_solves];
     double m_length[k_kept_solves];
@@ -425,6 +429,16 @@ class Body_pair_tracker {
   };
   std::vector<Kept_proof> m_proofs;
   std::vector<Kept_bound> m_bounds;
+  // Blocks of k_kept_solves poses (Candidate::solve_block), and the free ones.
+  std::vector<Solve_pose> m_solve_poses;
+  std::vector<int> m_free_solve_blocks;
+  // C's block, made on first use (which may move the others: no pointer outlives a call).
+  Solve_pose* solves_of(Candidate& C);
+  const Solve_pose* solves_of(const Candidate& C) const {
+    return C.solve_block < 0 ? nullptr : m_solve_poses.data() + C.solve_block;
+  }
+  // Gives C's block back (a candidate dropped, or replaced without its proofs).
+  void release_solves(Candidate& C);
   // The candidates' proof_count and bound_count summed: the entries of m_proofs and m_bounds
   // still read (the rest are stale ranges, compacted away by keep_proofs).
   long m_kept_proof_total = 0, m_kept_bound_total = 0;
