@@ -473,6 +473,7 @@ class Body_pair_tracker {
     Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
     int pa = -1, pb = -1;
     Vec4 params = Vec4::Zero();
+    long step = -1;  // m_steps when it was made
   } m_solved;
   // closed() of each, and whether both are certified convex, made on first use.
   signed char m_closed_a = -1, m_closed_b = -1, m_convex = -1;

@@ -160,5 +160,26 @@ TEST(ProbeScenes, ASolidLeftBehindASheetIsApart) {
   EXPECT_LE(run.worst_apart, 1e-8);
 }
 
+// screw.step (B, tilted 1.2 rad about x) pushed down through a plane (A) and out below it.
+// Inside, a shallower pair (the tip's) took over from the deepest, whose level then held the
+// deep check back: once out, the tip's stale pair read -16 to -20 while 0.7 to 4.3 apart. The
+// step after the check's solve, its trackers read the pair behind the plane and held nothing,
+// and that solve's 0.68 was reported again where the screw was 1.88 apart.
+TEST(ProbeScenes, AScrewPushedThroughAPlaneIsApartOnceOut) {
+  static const io::Model screw = io::read_model(shared_data("step/screw.step"));
+  const Body plane = make_plane_body(100.0, 100.0);
+  const Rigid_pose_3 start = Rigid_pose_3::from_quaternion(
+      Vec3(17.9, -12.199437548379493, 65.60122517876121), std::cos(0.6), std::sin(0.6), 0.0, 0.0);
+  Twist_3 v;
+  v.linear = Vec3(0.0, 0.0, -60.0);
+  const Probe_run run = run_probe(plane, Rigid_pose_3(), screw.bodies.at(0),
+                                  Motion::twist(start * screw.bodies.at(0).placement, v, 0.0),
+                                  0.0, 2.0, 0.02);
+  EXPECT_EQ(run.read_apart_while_overlapping, 0);
+  EXPECT_GE(run.apart_rows, 70);
+  EXPECT_GE(run.overlapping_rows, 20);
+  EXPECT_LE(run.worst_apart, 1e-8);
+}
+
 }  // namespace
 }  // namespace extremal
