@@ -488,6 +488,7 @@ void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   m_bounds.clear();
   m_solve_poses.clear();
   m_free_solve_blocks.clear();
+  m_kept_proof_total = m_kept_bound_total = 0;
   m_started = true;
   m_deep_checked = HUGE_VAL;
   const Distance_result g = global_solve(X_WA, X_WB);

@@ -286,8 +286,9 @@ class Body_pair_tracker {
   void judge(int k, bool first);
   // Steps every live slot not yet stepped at this step, with up to three hand-overs each.
   void step_pending();
-  // m_live_keys: the live slots' (key, slot), sorted; a slot killed or reused since no longer
-  // matches its entry (the lookups below check).
+  // m_live_keys: the live slots' (key, slot), sorted; rebuilt by each user (broad_phase,
+  // merge_duplicates), good until the next add_live or transition: a slot killed or reused since
+  // no longer matches its entry (the lookups below check), and new slots are not in it.
   void index_live();
   // The first index into m_live_keys at `key`.
   std::size_t first_live(std::uint64_t key) const;

@@ -163,7 +163,9 @@ void Body_pair_tracker::judge(int k, bool first) {
   // seen from its hole) also has d against its outward normal, with the bodies apart.
   // A tracker seeded apart whose first step reads it behind an open sheet (the sheet's normal
   // points away from the other body: an ellipsoid under a plane) did not come through contact:
-  // an open sheet has no inside, and the solver's answer is reported instead.
+  // an open sheet has no inside, and the solver's answer is reported instead. (A sheet A
+  // against a solid B reads its sign from the solid where it can, Tracker_options::sign_from_b:
+  // there a first negative reading is the sheet's witness inside the solid.)
   // It stays so until it reads the pair in front.
   if (L.result.distance > 0.0)
     L.behind_sheet = false;
@@ -266,10 +268,10 @@ void Body_pair_tracker::judge(int k, bool first) {
   if (L.valid && L.result.distance < -m_options.contact_tolerance && closed(0) && closed(1) &&
       L.result.distance < -boxes_bound())
     L.valid = false;
-  // A solid against an open sheet: a depth puts the sheet's witness inside the solid (in from
-  // the solid's witness along its normal by the depth), so inside the solid's box. Outside it,
-  // the reading is a stale pair (a box that clipped a plane's border and left past it read -10
-  // to -28 while 2 to 18 apart, its tracker in the normal form's band).
+  // A solid against an open body (a sheet, a curve, an open mesh): a depth puts the open
+  // body's witness inside the solid, so inside the solid's box. Outside it, the reading is a
+  // stale pair (a box that clipped a plane's border and left past it read -10 to -28 while 2 to
+  // 18 apart, its tracker in the normal form's band).
   if (L.valid && L.result.distance < -m_options.contact_tolerance && closed(0) != closed(1) &&
       !MA.body().is_point && !MB.body().is_point) {
     const bool solid_a = closed(0);

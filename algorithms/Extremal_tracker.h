@@ -31,6 +31,7 @@ struct Tracker_options {
   // The distance's sign from B's outward normal wherever B's witness is an interior point of a
   // surface (else as below): for an open sheet A against a solid B, whose inside the sheet's
   // normal does not tell (a solid apart behind a sheet read minus its distance).
+  // Body_pair_tracker sets it itself from the bodies' closedness.
   bool sign_from_b = false;
 
   static Tracker_options with_gain(double k) {

@@ -114,11 +114,10 @@ def random_quat(rng):
 def body_entry(rng, name, pick, size_hint, binary):
     """A scene body entry (pose filled in later), its box centre (body frame) and radius."""
     if pick == "shape":
-        shape, centre = random_shape(rng, size_hint)
-        spec = shape
+        shape, _ = random_shape(rng, size_hint)
         entry = {"name": name, "shape": shape}
-        # The box radius from the shape itself (sizes chosen above are bounds).
-        _, radius = box_of(shape_spec(spec), binary)
+        # The box centre and radius from the shape itself (sizes chosen above are bounds).
+        centre, radius = box_of(shape_spec(shape), binary)
         return entry, centre, radius
     path = os.path.join(DATA, pick)
     centre, radius = box_of(path, binary)
@@ -208,6 +207,8 @@ def main():
                     help="one body at least from the larger parts (cornetta, turbine, hammer, as1, ...)")
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "cli", "extremal"))
     args = ap.parse_args()
+    if args.steps < 2 or args.count < 1:
+        ap.error("--steps must be at least 2 and --count at least 1")
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1 << 30)
     print("seed %d" % seed)
     os.makedirs(args.out_dir, exist_ok=True)
