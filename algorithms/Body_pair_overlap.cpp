@@ -361,11 +361,13 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
     return false;
   }
   const double step = 1e-2 * size;
-  // Growth counts from the shallowest depth since the last check: where a shallower pair has
-  // taken over, the deeper one's level would hold the check back until the new pair grew past
-  // it (a screw through a plane, its shallower tip pair taking over at -11.7 under the checked
-  // -22.8, read -16 to -20 once out below, 0.7 to 4.3 apart).
-  if (std::isfinite(m_deep_checked)) m_deep_checked = std::max(m_deep_checked, best);
+  // Against a sheet, growth counts from the shallowest depth since the last check: where a
+  // shallower pair has taken over, the deeper one's level would hold the check back until the
+  // new pair grew past it (a screw through a plane, its shallower tip pair taking over at -11.7
+  // under the checked -22.8, read -16 to -20 once out below, 0.7 to 4.3 apart). Two solids have
+  // the motion check below for that.
+  if (against_sheet && std::isfinite(m_deep_checked))
+    m_deep_checked = std::max(m_deep_checked, best);
   // A point inside a body is also checked as it moves: its depth is its distance from the
   // surface, whose nearest face changes without the tracked one growing deeper (a point rising
   // in a cylinder nears the top cap); that check is one point query. Two solids likewise, once
