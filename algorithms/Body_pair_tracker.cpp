@@ -287,18 +287,13 @@ void Body_pair_tracker::index_live() {
   std::sort(m_live_keys.begin(), m_live_keys.end());
 }
 
-std::size_t Body_pair_tracker::first_live(std::uint64_t key) const {
-  return static_cast<std::size_t>(
-      std::lower_bound(m_live_keys.begin(), m_live_keys.end(), std::make_pair(key, -1)) -
-      m_live_keys.begin());
-}
-
-bool Body_pair_tracker::tracks(std::uint64_t key) const {
-  for (std::size_t i = first_live(key); i < m_live_keys.size() && m_live_keys[i].first == key; ++i) {
-    const Live& L = m_live[m_live_keys[i].second];
-    if (L.alive && pair_key(L.pa, L.pb) == key) return true;
+template <class F>
+void Body_pair_tracker::each_live(std::uint64_t key, F f) const {
+  auto e = std::lower_bound(m_live_keys.begin(), m_live_keys.end(), std::make_pair(key, -1));
+  for (; e != m_live_keys.end() && e->first == key; ++e) {
+    const Live& L = m_live[e->second];
+    if (L.alive && pair_key(L.pa, L.pb) == key) f(e->second);
   }
-  return false;
 }
 
 void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -343,15 +338,14 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
                              if (d > reach) return;
                              found.emplace_back(pair_key(m_prims_a[i], m_prims_b[j]), d);
                            });
-  std::sort(found.begin(), found.end(),
-            [](const auto& x, const auto& y) { return x.first < y.first; });
-  m_next_candidates.resize(found.size());
-  for (std::size_t k = 0; k < found.size(); ++k) {
-    Candidate& c = m_next_candidates[k];
-    c = Candidate();
-    c.key = found[k].first;
-    c.lower = found[k].second;  // the boxes hold the primitives
+  std::sort(found.begin(), found.end());  // (keys are distinct)
+  m_next_candidates.clear();
+  for (const auto& [key, d] : found) {
+    Candidate c;
+    c.key = key;
+    c.lower = d;  // the boxes hold the primitives
     c.at = relative;
+    m_next_candidates.push_back(c);
   }
   // Pairs that left: their trackers go. Pairs that entered: their box distance is their bound
   // (check_vacated certifies them apart, seed_in_contact seeds them in contact), but pairs
@@ -361,13 +355,7 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
   // pairs made a scan of the trackers per candidate most of a step.)
   index_live();
   std::size_t i = 0, j = 0;
-  auto drop = [&](std::uint64_t key) {
-    for (std::size_t e = first_live(key); e < m_live_keys.size() && m_live_keys[e].first == key;
-         ++e) {
-      const int k = m_live_keys[e].second;
-      if (m_live[k].alive && pair_key(m_live[k].pa, m_live[k].pb) == key) kill(k);
-    }
-  };
+  auto drop = [&](std::uint64_t key) { each_live(key, [&](int k) { kill(k); }); };
   while (i < m_candidates.size() || j < m_next_candidates.size()) {
     if (j == m_next_candidates.size() ||
         (i < m_candidates.size() && m_candidates[i].key < m_next_candidates[j].key)) {
@@ -377,7 +365,11 @@ void Body_pair_tracker::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3
       const std::uint64_t key = m_next_candidates[j++].key;
       // (A tracker may have arrived by a transition.)
       const int pa = key_a(key), pb = key_b(key);
-      if (!certifiable(pa, pb) && !tracks(key)) seed_pair(pa, pb, X_WA, X_WB);
+      if (!certifiable(pa, pb)) {
+        bool tracked = false;
+        each_live(key, [&](int) { tracked = true; });
+        if (!tracked) seed_pair(pa, pb, X_WA, X_WB);
+      }
     } else {
       // The carried bound (with its pose, reach and carried sides) when it is the higher one;
       // the slack in any case, and so, for a pair seeded in contact whose solve certified it

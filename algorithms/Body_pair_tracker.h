@@ -290,10 +290,9 @@ class Body_pair_tracker {
   // merge_duplicates), good until the next add_live or transition: a slot killed or reused since
   // no longer matches its entry (the lookups below check), and new slots are not in it.
   void index_live();
-  // The first index into m_live_keys at `key`.
-  std::size_t first_live(std::uint64_t key) const;
-  // True when a live slot tracks primitive pair `key` (see pair_key), by m_live_keys.
-  bool tracks(std::uint64_t key) const;
+  // Calls f(slot) for each live slot on primitive pair `key` (see pair_key), by m_live_keys.
+  template <class F>
+  void each_live(std::uint64_t key, F f) const;
   // Replaces a seed on a patch side by an interior pair at the same distance, if there is one.
   void prefer_central(int pa, int pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                       Vec4& params) const;

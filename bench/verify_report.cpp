@@ -56,9 +56,6 @@ struct Options {
   bool rows = false;
 };
 
-// Whether the report's status says the pair was beyond the threshold (its distance a bound).
-bool is_farther(const Pair_report& r) { return r.status == Pair_status::Farther; }
-
 // The largest edge tolerance of a body (the file's, raised to the measured gap between an
 // edge's curve and its faces): its faces and edges disagree by up to this, and a minimum on a
 // face's side may be read on either.
@@ -69,7 +66,8 @@ double edge_tolerance(const Body& body) {
 }
 
 void judge_row(const Options& o, const io::Scene& scene, int k, double t, const Pair_report& r,
-               const Signed_distance_result& ref, bool sheets, Pair_tally& tally) {
+               const Signed_distance_result& ref, double model_tolerance, bool sheets,
+               Pair_tally& tally) {
   const auto& [ia, ib] = scene.pairs[k];
   const std::string who = scene.bodies[ia].name + " - " + scene.bodies[ib].name;
   auto wrong = [&](const char* what, double expected) {
@@ -89,7 +87,7 @@ void judge_row(const Options& o, const io::Scene& scene, int k, double t, const 
     wrong("not finite", ref.distance);
     return;
   }
-  if (is_farther(r)) {
+  if (r.status == Pair_status::Farther) {  // beyond the threshold: a bound
     ++tally.farther;
     if (ref.is_certified() && r.distance > ref.upper_bound + o.tolerance)
       wrong("farther bound above the distance", ref.distance);
@@ -100,9 +98,8 @@ void judge_row(const Options& o, const io::Scene& scene, int k, double t, const 
     return;
   }
   const double width = ref.upper_bound - ref.lower_bound;
-  const double allowed = o.tolerance * std::max(1.0, std::abs(ref.distance)) + width +
-                         edge_tolerance(scene.bodies[ia].body) +
-                         edge_tolerance(scene.bodies[ib].body);
+  const double allowed =
+      o.tolerance * std::max(1.0, std::abs(ref.distance)) + width + model_tolerance;
   if (ref.overlap == Overlap_kind::None) {
     ++tally.apart;
     // Two open sheets read their sign from A's normal (README: a plane passed through another
@@ -138,6 +135,8 @@ int verify(const Options& o, const std::string& path) {
     if (!hierarchies[i]) hierarchies[i] = std::make_unique<Distance_hierarchy>(scene.bodies[i].body);
     return *hierarchies[i];
   };
+  std::vector<double> edge_tolerances;
+  for (const Scene_body& b : scene.bodies) edge_tolerances.push_back(edge_tolerance(b.body));
   Signed_distance_request request;
   request.total_seconds = o.seconds;
 
@@ -161,6 +160,7 @@ int verify(const Options& o, const std::string& path) {
         tallies[k].reference_seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         judge_row(o, scene, static_cast<int>(k), t, reports[k], ref,
+                  edge_tolerances[ia] + edge_tolerances[ib],
                   !ref.closed_a.closed && !ref.closed_b.closed, tallies[k]);
       }
     }
