@@ -29,8 +29,8 @@
 #include <vector>
 
 // CGAL before OpenCASCADE: OpenCASCADE's Handle macro breaks CGAL's headers.
-#include "algorithms/Ellipsoid_distance.h"
-#include "algorithms/Global_distance.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
+#include "algorithms/distance/Global_distance.h"
 #include "kernel/Shapes.h"
 #include "support/Occt_bridge.h"
 

@@ -10,8 +10,8 @@
 #include <cmath>
 #include <vector>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Global_distance.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Global_distance.h"
 #include "kernel/Shapes.h"
 
 using namespace extremal;

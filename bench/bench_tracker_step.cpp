@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "algorithms/Extremal_tracker.h"
+#include "algorithms/pair/Extremal_tracker.h"
 #include "experiments/Ellipsoid_experiment.h"
 #include "kernel/Shapes.h"
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/Global_distance.h"
+#include "algorithms/distance/Global_distance.h"
 #include "io/Model_reader.h"
 #include "io/Shape_spec.h"
 

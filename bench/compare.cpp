@@ -38,11 +38,11 @@
 #include <vector>
 
 // CGAL (through our headers) before OpenCASCADE: its Handle macro breaks CGAL's headers.
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Ellipsoid_distance.h"
-#include "algorithms/Extremal_tracker.h"
-#include "algorithms/Global_distance.h"
-#include "algorithms/Scene_stepper.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
+#include "algorithms/pair/Extremal_tracker.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/scene/Scene_stepper.h"
 #include "experiments/Egg_crate.h"
 #include "experiments/Ellipsoid_experiment.h"
 #include "io/Model_reader.h"

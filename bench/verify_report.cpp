@@ -28,8 +28,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "algorithms/Distance_hierarchy.h"
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/distance/Distance_hierarchy.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "cli/Scene_run.h"
 #include "io/Model_reader.h"
 #include "io/Scene.h"

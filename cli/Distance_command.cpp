@@ -14,9 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "algorithms/Global_distance.h"
-#include "algorithms/Penetration_depth.h"
-#include "algorithms/Set_distance.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/distance/Penetration_depth.h"
+#include "algorithms/distance/Set_distance.h"
 #include "cli/Commands.h"
 #include "io/Model_reader.h"
 #include "io/Shape_spec.h"

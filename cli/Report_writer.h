@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
 #include "io/Pair_summary.h"
 #include "io/Scene.h"
 

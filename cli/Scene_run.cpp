@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "algorithms/Scene_stepper.h"
+#include "algorithms/scene/Scene_stepper.h"
 #include "kernel/Error.h"
 
 namespace extremal::cli {

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
 #include "io/Scene.h"
 
 namespace extremal {

@@ -10,11 +10,11 @@
 #include <functional>
 #include <string>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Global_distance.h"
-#include "algorithms/Penetration_depth.h"
-#include "algorithms/Scene_stepper.h"
-#include "algorithms/Triangle_distance.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/distance/Penetration_depth.h"
+#include "algorithms/scene/Scene_stepper.h"
+#include "algorithms/distance/Triangle_distance.h"
 #include "experiments/Egg_crate.h"
 #include "kernel/Trim_region.h"
 #include "io/Model_reader.h"

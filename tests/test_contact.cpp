@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <functional>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "kernel/Motion.h"
 #include "kernel/Shapes.h"
 

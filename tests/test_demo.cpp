@@ -6,8 +6,8 @@
 //  - the bracket pair shows the events the demo is for: approach from far, one contact interval
 //    with a shallow penetration (the ellipsoid's tip dips onto the slot floor), then leaving; the
 //    ellipsoid pair stays apart.
-#include "algorithms/Global_distance.h"
-#include "algorithms/Scene_stepper.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/scene/Scene_stepper.h"
 #include "io/Model_reader.h"
 #include "io/Scene.h"
 

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "algorithms/Ellipsoid_distance.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
 #include "support/Cli_run.h"
 
 namespace extremal {

@@ -11,8 +11,8 @@
 #include <initializer_list>
 #include <string>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "io/Model_reader.h"
 #include "kernel/Shapes.h"
 

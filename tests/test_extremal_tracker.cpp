@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <new>
 
-#include "algorithms/Ellipsoid_distance.h"
-#include "algorithms/Extremal_tracker.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
+#include "algorithms/pair/Extremal_tracker.h"
 #include "experiments/Ellipsoid_experiment.h"
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"

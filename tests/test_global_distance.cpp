@@ -13,10 +13,11 @@
 #include <random>
 #include <vector>
 
-#include "algorithms/Ellipsoid_distance.h"
-#include "algorithms/Extremal_tracker.h"
-#include "algorithms/Global_distance.h"
-#include "algorithms/internal/Bezier_net.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
+#include "algorithms/pair/Extremal_tracker.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
+#include "algorithms/distance/internal/Bezier_net.h"
 #include "kernel/Error.h"
 #include "kernel/Nurbs_refinement.h"
 #include "kernel/Shapes.h"
@@ -149,7 +150,8 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
   Distance_workspace ws, ws_again;
   Distance_request req;
   req.absolute_tolerance = req.relative_tolerance = 1e-10;
-  req.keep_proofs = true;
+  internal::Proof_request keep;
+  keep.keep_proofs = true;
   int cases = 0, found = 0;
   long part_nodes = 0, anew_nodes = 0;
   for (int trial = 0; trial < 200 && cases < 20; ++trial) {
@@ -159,13 +161,15 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
     if (!truth.separated || truth.lower_bound < 1e-2) continue;
     ++cases;
     SCOPED_TRACE(::testing::Message() << "case " << cases);
-    const Distance_result first = extremal_distance_between(ha, X_WA, ea, hb, X_WB, eb, req, ws);
+    const Distance_result first =
+        internal::extremal_distance_between(ha, X_WA, ea, hb, X_WB, eb, req, keep, ws);
     ASSERT_TRUE(first.is_certified()) << to_string(first.status);
     const std::vector<Bound_proof> bounds = ws.bound_proofs();
     ASSERT_FALSE(bounds.empty());
-    std::vector<Sub_patch_pair> all;
+    std::vector<internal::Sub_patch_pair> all;
     for (const Bound_proof& b : bounds) all.push_back({b.a_lo, b.a_hi, b.b_lo, b.b_hi});
-    const Distance_result same = extremal_distance_between(ha, X_WA, ea, hb, X_WB, eb, all, req, ws_again);
+    const Distance_result same =
+        internal::extremal_distance_between(ha, X_WA, ea, hb, X_WB, eb, all, req, keep, ws_again);
     EXPECT_TRUE(same.is_certified()) << to_string(same.status);
     EXPECT_NEAR(same.distance, truth.upper_bound, 1e-9 * truth.upper_bound);
     EXPECT_NEAR(same.lower_bound, truth.lower_bound, 1e-9 * truth.upper_bound);
@@ -181,7 +185,7 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
         Rigid_pose_3(Mat3::Identity(), -centre);
     const Rigid_pose_3 X_WB1 = motion * X_WB;
     const auto truth1 = ellipsoid_distance({X_WA, axes_a}, {X_WB1, axes_b});
-    std::vector<Sub_patch_pair> restarts;
+    std::vector<internal::Sub_patch_pair> restarts;
     double kept = HUGE_VAL;
     for (const Bound_proof& b : bounds) {
       const double now = bound_after_motion(b, motion, X_WB.translation().norm());
@@ -190,7 +194,8 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
       else
         restarts.push_back({b.a_lo, b.a_hi, b.b_lo, b.b_hi});
     }
-    const Distance_result part = extremal_distance_between(ha, X_WA, ea, hb, X_WB1, eb, restarts, req, ws_again);
+    const Distance_result part = internal::extremal_distance_between(ha, X_WA, ea, hb, X_WB1, eb,
+                                                                    restarts, req, keep, ws_again);
     const Distance_result anew = extremal_distance_between(ha, X_WA, ea, hb, X_WB1, eb, req, ws_again);
     part_nodes += part.nodes_created;
     anew_nodes += anew.nodes_created;
@@ -210,13 +215,13 @@ TEST(GlobalDistance, RestartedFromKeptPairsTheEllipsoidsKeepTheirDistance) {
   EXPECT_LT(part_nodes, anew_nodes);
 
   // A sub-patch in no piece of its element is an error that names the element.
-  Sub_patch_pair outside;
+  internal::Sub_patch_pair outside;
   outside.a_lo = {10.0, 0.0};
   outside.a_hi = {11.0, 0.5};
   outside.b_hi = {0.5, 0.5};
   try {
-    (void)extremal_distance_between(ha, Rigid_pose_3(), ea, hb, random_pose(rng, 8.0), eb, {outside},
-                                    req, ws);
+    (void)internal::extremal_distance_between(ha, Rigid_pose_3(), ea, hb, random_pose(rng, 8.0), eb,
+                                              {outside}, req, keep, ws);
     ADD_FAILURE() << "no error for a sub-patch outside its element";
   } catch (const Precondition_violation& e) {
     EXPECT_NE(std::string(e.what()).find("lies in no piece of element"), std::string::npos) << e.what();
@@ -253,11 +258,15 @@ TEST(GlobalDistance, AStationaryPointSettlesItsNeighbourhoodBelowACutoff) {
     for (const bool given : {false, true}) {
       Distance_request q;
       q.max_nodes = 20000;
-      q.keep_proofs = true;
       q.cutoff = g.distance - 0.5 * gap;
-      q.cutoff_floor = g.distance - gap;
-      if (given) q.stationary = std::array<double, 4>{{g.params_a[0], g.params_a[1], g.params_b[0], g.params_b[1]}};
-      const Distance_result w = extremal_distance_between(ha, Rigid_pose_3(), ea, hb, X_B, eb, q, ws);
+      internal::Proof_request proof;
+      proof.keep_proofs = true;
+      proof.cutoff_floor = g.distance - gap;
+      if (given)
+        proof.stationary =
+            std::array<double, 4>{{g.params_a[0], g.params_a[1], g.params_b[0], g.params_b[1]}};
+      const Distance_result w =
+          internal::extremal_distance_between(ha, Rigid_pose_3(), ea, hb, X_B, eb, q, proof, ws);
       ASSERT_TRUE(w.is_certified()) << gap << " " << given;
       EXPECT_EQ(w.element_a, -1) << "nothing below the cutoff";
       EXPECT_GE(w.uncarried_lower_bound, q.cutoff - 2e-9) << gap << " " << given;
@@ -436,9 +445,10 @@ TEST(GlobalDistance, BoundsAboutAnAxisOutlastTurnsAboutIt) {
   const Rigid_pose_3 X_WA = random_pose(rng, 10.0);
   const Rigid_pose_3 X_WB = X_WA * translation(0, 0, 2);
   Distance_request req;
-  req.keep_proofs = true;
+  internal::Proof_request keep;
+  keep.keep_proofs = true;
   Distance_workspace ws;
-  const Distance_result r = extremal_distance(ha, X_WA, hb, X_WB, req, ws);
+  const Distance_result r = internal::extremal_distance(ha, X_WA, hb, X_WB, req, keep, ws);
   ASSERT_EQ(r.status, Distance_status::Converged) << to_string(r.status);
   EXPECT_NEAR(r.distance, 1.0, 1e-9);
   std::vector<Bound_proof> kept;

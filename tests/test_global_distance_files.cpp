@@ -18,8 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "support/Cli_run.h"
-#include "algorithms/Global_distance.h"
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "io/Model_reader.h"
 #include "io/Shape_spec.h"
 #include "kernel/Shapes.h"
@@ -328,8 +329,9 @@ struct Kept_proofs {
     Distance_request request;
     request.absolute_tolerance = 1e-9;
     request.relative_tolerance = 0.0;
-    request.keep_proofs = true;
-    result = extremal_distance(*ha, X_WA, *hb, X_WB, request, workspace);
+    internal::Proof_request keep;
+    keep.keep_proofs = true;
+    result = internal::extremal_distance(*ha, X_WA, *hb, X_WB, request, keep, workspace);
     ASSERT_TRUE(result.is_certified()) << to_string(result.status);
   }
   // Motion m of a run: a turn about a point near the probe and a shift, from a hundredth of
@@ -488,10 +490,11 @@ TEST(DistanceFiles, NearlyParallelCurvedSheetsCloseTheirBounds) {
 
   const Rigid_pose_3 X_B = Rigid_pose_3(Mat3::Identity(), Vec3(3, 1, -2)) * sheet.placement;
   Distance_request keep = request;
-  keep.keep_proofs = true;
   keep.max_nodes = 20000;
+  internal::Proof_request proofs;
+  proofs.keep_proofs = true;
   Distance_workspace ws;
-  (void)extremal_distance(h, sheet.placement, h, X_B, keep, ws);
+  (void)internal::extremal_distance(h, sheet.placement, h, X_B, keep, proofs, ws);
   const std::vector<Bound_proof> bounds = ws.bound_proofs();
   auto point = [&](const Rigid_pose_3& X, int element, const std::array<double, 2>& q) {
     Surface_point sp;

@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-#include "algorithms/Pair_geometry.h"
+#include "algorithms/pair/Pair_geometry.h"
 #include "kernel/Shapes.h"
 #include "support/Random.h"
 

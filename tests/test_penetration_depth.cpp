@@ -8,8 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "algorithms/Global_distance.h"
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/distance/Global_distance.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "kernel/Bracket.h"
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "io/Model_reader.h"
 #include "kernel/Motion.h"
 #include "kernel/Shapes.h"

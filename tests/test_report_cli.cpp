@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/Ellipsoid_distance.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
 #include <nlohmann/json.hpp>
 
 #include "cli/Progress_bar.h"

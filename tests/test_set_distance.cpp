@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "algorithms/Set_distance.h"
+#include "algorithms/distance/Set_distance.h"
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"
 

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "algorithms/Symmetry.h"
+#include "algorithms/distance/Symmetry.h"
 #include "kernel/Nurbs_refinement.h"
 #include "kernel/Shapes.h"
 #include "support/Random.h"

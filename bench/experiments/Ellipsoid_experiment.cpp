@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/Ellipsoid_distance.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
 #include "kernel/Shapes.h"
 
 namespace extremal::experiments {

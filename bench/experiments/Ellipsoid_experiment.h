@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "algorithms/Extremal_tracker.h"
+#include "algorithms/pair/Extremal_tracker.h"
 #include "kernel/Rigid_pose_3.h"
 
 namespace extremal::experiments {

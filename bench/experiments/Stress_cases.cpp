@@ -10,8 +10,8 @@
 #include <random>
 #include <stdexcept>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Ellipsoid_distance.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
 #include "kernel/Nurbs_refinement.h"
 #include "kernel/Shapes.h"
 

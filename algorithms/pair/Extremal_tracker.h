@@ -6,8 +6,8 @@
 // problem; degenerate geometry falls back to damped least squares.
 #pragma once
 
-#include "algorithms/Feature.h"
-#include "algorithms/Pair_geometry.h"
+#include "algorithms/pair/Feature.h"
+#include "algorithms/pair/Pair_geometry.h"
 
 namespace extremal {
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "algorithms/Tracking_model.h"
+#include "algorithms/body_pair/Tracking_model.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/Feature.h"
-#include "algorithms/Symmetry.h"
+#include "algorithms/pair/Feature.h"
+#include "algorithms/distance/Symmetry.h"
 #include "kernel/Body.h"
 #include "kernel/Trim_region.h"
 #include "kernel/Types.h"

@@ -1,4 +1,4 @@
-#include "algorithms/Extremal_tracker.h"
+#include "algorithms/pair/Extremal_tracker.h"
 
 #include <algorithm>
 #include <cmath>

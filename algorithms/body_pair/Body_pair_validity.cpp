@@ -1,12 +1,13 @@
 // Which tracker readings hold a pair of the bodies (Body_pair_tracker::judge): the witnesses on
 // the faces, a depth reached through contact, the contact form's conditions, the normals'
 // opposition between solids (at faces, edges and poles), and the boxes' bound on a depth.
-#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/internal/Body_pair_support.h"
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
 
 namespace extremal {
 

@@ -1,4 +1,4 @@
-#include "algorithms/Body_pair_tracker.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
 
 #include <CGAL/box_intersection_d.h>
 
@@ -7,8 +7,9 @@
 #include <limits>
 #include <new>
 
-#include "algorithms/Triangle_distance.h"
-#include "algorithms/internal/Body_pair_support.h"
+#include "algorithms/distance/Triangle_distance.h"
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
 #include "kernel/Error.h"
 
 namespace extremal {

@@ -1,4 +1,4 @@
-#include "algorithms/Ellipsoid_distance.h"
+#include "algorithms/distance/Ellipsoid_distance.h"
 
 #include <cmath>
 

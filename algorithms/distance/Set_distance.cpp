@@ -1,9 +1,9 @@
-#include "algorithms/Set_distance.h"
+#include "algorithms/distance/Set_distance.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/internal/Time_budget.h"
+#include "algorithms/distance/internal/Time_budget.h"
 #include "kernel/Error.h"
 
 namespace extremal {

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "algorithms/Feature.h"
+#include "algorithms/pair/Feature.h"
 #include "kernel/Rigid_pose_3.h"
 
 namespace extremal {

@@ -1,4 +1,4 @@
-#include "algorithms/Scene_stepper.h"
+#include "algorithms/scene/Scene_stepper.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -1,4 +1,4 @@
-#include "algorithms/Triangle_distance.h"
+#include "algorithms/distance/Triangle_distance.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "algorithms/Solid_classification.h"
+#include "algorithms/distance/Solid_classification.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <Eigen/Dense>
 
-#include "algorithms/internal/Bezier_net.h"
+#include "algorithms/distance/internal/Bezier_net.h"
 #include "kernel/Error.h"
 
 namespace extremal {

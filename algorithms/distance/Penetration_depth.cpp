@@ -1,4 +1,4 @@
-#include "algorithms/Penetration_depth.h"
+#include "algorithms/distance/Penetration_depth.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,10 +14,10 @@
 #include <CGAL/convex_hull_3.h>
 #include <Eigen/Dense>
 
-#include "algorithms/Feature.h"
-#include "algorithms/Pair_geometry.h"
-#include "algorithms/internal/Bezier_net.h"
-#include "algorithms/internal/Time_budget.h"
+#include "algorithms/pair/Feature.h"
+#include "algorithms/pair/Pair_geometry.h"
+#include "algorithms/distance/internal/Bezier_net.h"
+#include "algorithms/distance/internal/Time_budget.h"
 #include "kernel/Error.h"
 #include "kernel/Shapes.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "algorithms/Distance_hierarchy.h"
+#include "algorithms/distance/Distance_hierarchy.h"
 #include "kernel/Body.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"

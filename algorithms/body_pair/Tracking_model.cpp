@@ -1,4 +1,4 @@
-#include "algorithms/Tracking_model.h"
+#include "algorithms/body_pair/Tracking_model.h"
 
 #include <CGAL/box_intersection_d.h>
 

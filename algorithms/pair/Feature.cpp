@@ -1,4 +1,4 @@
-#include "algorithms/Feature.h"
+#include "algorithms/pair/Feature.h"
 
 #include <cmath>
 

@@ -18,8 +18,8 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/Feature.h"
-#include "algorithms/Global_distance.h"
+#include "algorithms/pair/Feature.h"
+#include "algorithms/distance/Global_distance.h"
 #include "kernel/Body.h"
 
 namespace extremal {

@@ -1,4 +1,4 @@
-#include "algorithms/Pair_geometry.h"
+#include "algorithms/pair/Pair_geometry.h"
 
 #include <algorithm>
 #include <cmath>

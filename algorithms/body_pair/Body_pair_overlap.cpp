@@ -7,10 +7,11 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/Pair_geometry.h"
-#include "algorithms/Penetration_depth.h"
-#include "algorithms/internal/Body_pair_support.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/pair/Pair_geometry.h"
+#include "algorithms/distance/Penetration_depth.h"
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
 
 namespace extremal {
 

@@ -7,8 +7,9 @@
 #include <cmath>
 #include <limits>
 
-#include "algorithms/Body_pair_tracker.h"
-#include "algorithms/internal/Body_pair_support.h"
+#include "algorithms/body_pair/Body_pair_tracker.h"
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
 
 namespace extremal {
 
@@ -268,18 +269,19 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
             : std::max(4.0 * tol,
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
     Distance_request request = m_options.seeding;
-    request.keep_proofs = true;
+    internal::Proof_request proof;
+    proof.keep_proofs = true;
     // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
     // about the tracker's point, not by hull bounds (Distance_request::stationary).
     if (held && !m_live[C.tracked_slot].closed_form &&
         A.kind != Primitive_kind::Triangle && B.kind != Primitive_kind::Triangle) {
       const Vec4& q = m_live[C.tracked_slot].result.params;
-      request.stationary = std::array<double, 4>{{q[0], q[1], q[2], q[3]}};
+      proof.stationary = std::array<double, 4>{{q[0], q[1], q[2], q[3]}};
     }
-    request.motion_axis = turning;
+    proof.motion_axis = turning;
     request.cutoff = below_ceiling(need + slack);
     // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
-    request.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
+    proof.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
     // Crease ties. A face sharing a patch side with a face whose pair with the same other
     // primitive is tracked (a C0 join of a multi-patch body) has its minimum on that side when
     // the tracked point sits there: it ties the tracked minimum and no bound of the pair can
@@ -299,14 +301,15 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // away from the side is found as any other basin (its pairs are neither set aside nor
     // above it).
     // The pair's elements whole, or only the sub-patch pairs in m_restarts (`partial`).
-    auto solve = [&](const Distance_request& r, bool partial) {
+    auto solve = [&](const Distance_request& r, const internal::Proof_request& p, bool partial) {
       const Distance_hierarchy& ha = m_model_a->hierarchy();
       const Distance_hierarchy& hb = m_model_b->hierarchy();
       Distance_result result =
-          partial ? extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                              B.global_element, m_restarts, r, m_workspace)
-                  : extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                              B.global_element, r, m_workspace);
+          partial ? internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
+                                                        B.global_element, m_restarts, r, p,
+                                                        m_workspace)
+                  : internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
+                                                        B.global_element, r, p, m_workspace);
       m_report.vacated_nodes += result.nodes_created;
       return result;
     };
@@ -329,21 +332,22 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
                        !(C.holds_own_minimum && !carrying &&
                          (A.kind == Primitive_kind::Edge || B.kind == Primitive_kind::Edge));
     Distance_request first = request;
+    internal::Proof_request first_proof = proof;
     if (prove) {
-      first.cutoff_floor = need;
+      first_proof.cutoff_floor = need;
       first.max_nodes = k_crease_nodes;
       if (carrying) {
-        first.carried_sides = {carried_a, carried_b};
+        first_proof.carried_sides = {carried_a, carried_b};
         // Cutoff and gradient reach alike (the motion either proof outlasts).
         const double crease_slack =
             step_motion >= cap ? 4.0 * tol : std::max(4.0 * tol, k_crease_fraction * cap);
         first.cutoff = below_ceiling(need + crease_slack);
-        first.carried_min_reach = crease_slack;
+        first_proof.carried_min_reach = crease_slack;
         ++m_report.vacated_crease_solves;
       } else {
         first.cutoff =
             below_ceiling(need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion)));
-        first.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
+        first_proof.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
       }
     }
     // Where the pair's kept proofs still clear the cutoff at this pose, only the sub-patch
@@ -355,14 +359,15 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     const bool partial =
         C.carried[0] == carried_a && C.carried[1] == carried_b &&
         plan_partial_solve(C, A.global_element, B.global_element, first.cutoff - tol,
-                           first.carried_min_reach, first.max_nodes, kept_lower, kept_reach);
-    Distance_result g = solve(first, partial);
+                           first_proof.carried_min_reach, first.max_nodes, kept_lower,
+                           kept_reach);
+    Distance_result g = solve(first, first_proof, partial);
     bool kept = partial;
     // A proving solve not settled within its budget (a stationary point of the pair between
     // the tracked minimum and the cutoff): the usual solve, to the witness. (Kept proofs are
     // at or above the cutoff.)
     if (prove && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
-      g = solve(request, false);
+      g = solve(request, proof, false);
       carried_a = carried_b = 0u;
       kept = false;
     }

@@ -1,4 +1,4 @@
-#include "algorithms/Distance_hierarchy.h"
+#include "algorithms/distance/Distance_hierarchy.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <numeric>
 #include <sstream>
 
-#include "algorithms/internal/Bezier_net.h"
+#include "algorithms/distance/internal/Bezier_net.h"
 #include "kernel/Error.h"
 #include "kernel/Nurbs_refinement.h"
 

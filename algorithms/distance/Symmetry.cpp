@@ -1,4 +1,4 @@
-#include "algorithms/Symmetry.h"
+#include "algorithms/distance/Symmetry.h"
 
 #include <algorithm>
 #include <array>
