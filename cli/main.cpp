@@ -1,5 +1,5 @@
 // The `extremal` command: batch distance reports, one-shot distances, file information.
-// Contract: ../shared/CLI.md.
+// Contract: docs/cli.md.
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
       "scene file's stem (or <k>-<stem> for every scene when two scenes share a stem, k its\n"
       "position); to stdout, one CSV header and a trailing 'scene' column.\n"
       "Exit codes: 0 success, 1 bad input (message on stderr), 2 usage error.");
-  report_cmd->add_option("SCENE", report.scenes, "Scene file(s) (JSON, ../shared/CLI.md)")
+  report_cmd->add_option("SCENE", report.scenes, "Scene file(s) (JSON, docs/cli.md)")
       ->required();
   report_cmd->add_option("-o,--output", report.output,
                          "Write the report to OUT.csv or OUT.json (rows plus a summary per pair)");
