@@ -309,11 +309,8 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
       distance[0] = stepper.step(0.0, dt)[0].distance;
       starts.push_back(micros_since(t0));
       const auto t1 = Clock::now();
-      const Pair_report* last = nullptr;
-      for (long i = 1; i <= steps; ++i) {
-        last = &stepper.step(i * dt, dt)[0];
-        distance[i] = last->distance;
-      }
+      for (long i = 1; i <= steps; ++i) distance[i] = stepper.step(i * dt, dt)[0].distance;
+      const Pair_statistics* last = steps > 0 ? &stepper.statistics(0) : nullptr;
       row.times_us.push_back(micros_since(t1) / std::max<long>(1, steps));
       if (run == 0 && last)
         std::fprintf(stderr, "(%s) %g Hz: candidate pairs without a tracker checked %ld times, "

@@ -583,7 +583,7 @@ TEST(Contact, BodiesThatStartOverlappingReportTheirDepthFromTheFirstStep) {
       // The start, and one check of the depth (check_deep) with the solve that finds the
       // depth's pair (the hulls' witnesses sit on rims that do not face each other). The turn
       // about the shaft's axis and its slide of 0.1 (a fiftieth of its size) bring no more.
-      EXPECT_LE(r.audits, 3);
+      EXPECT_LE(tracker.statistics().audits, 3);
     }
   }
   EXPECT_LE(worst, 1e-9);

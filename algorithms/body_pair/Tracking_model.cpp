@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 
+#include "algorithms/distance/Solid_classification.h"
 #include "kernel/Error.h"
 #include "kernel/Nurbs_refinement.h"
 
@@ -177,7 +178,8 @@ void Edge_on_face::map(double t, double out[2]) const {
   out[1] = origin[1] + t * direction[1];
 }
 
-Tracking_model::Tracking_model(const Body& body) : m_body(body), m_hierarchy(body) {
+Tracking_model::Tracking_model(const Body& body)
+    : m_body(body), m_hierarchy(body), m_closed(body_closedness(body).closed) {
   if (body.is_point) {
     Primitive p;
     p.kind = Primitive_kind::Point;

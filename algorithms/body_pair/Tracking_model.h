@@ -1,4 +1,4 @@
-// A body prepared for tracking against other bodies (../shared/DESIGN.md section 3): its
+// A body prepared for tracking against other bodies (docs/design.md): its
 // primitives (faces, curves, B-rep edges, a point; a mesh's triangles and their edges), their
 // body-frame boxes in a bounding-volume tree for the broad phase, and the adjacency a tracked
 // point follows when it leaves a primitive:
@@ -80,6 +80,8 @@ class Tracking_model {
   // Box of the whole body, body frame.
   const Bbox_3& box() const { return m_box; }
   bool has_mesh() const { return m_has_mesh; }
+  // Whether the body encloses a volume (body_closedness: a closed shell or mesh), decided once.
+  bool closed() const { return m_closed; }
   // Number of patch sides matched geometrically (multi-patch bodies without B-rep).
   int matched_sides() const { return m_matched_sides; }
 
@@ -128,6 +130,7 @@ class Tracking_model {
   std::vector<Node> m_tree;
   Bbox_3 m_box;
   bool m_has_mesh = false;
+  bool m_closed = false;
   int m_matched_sides = 0;
 };
 

@@ -37,6 +37,8 @@ class Scene_stepper {
   const std::vector<Pair_report>& step(double t, double dt);
 
   const std::vector<std::pair<int, int>>& pairs() const { return m_pairs; }
+  // The work pair k's tracker has done since its start.
+  const Pair_statistics& statistics(std::size_t k) const { return m_trackers[k].statistics(); }
   // Threads used by step() (>= 1).
   void set_threads(int threads);
   int threads() const { return m_threads; }

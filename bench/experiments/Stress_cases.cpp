@@ -84,7 +84,7 @@ void run_pair(Stress_result& r, const Body& a, const Body& b, const Path_motion&
                   "params %.6f %.6f %.6f %.6f trackers %d\n",
                   i, t, rep.distance, exact, to_string(rep.status), to_string(rep.degeneracy),
                   rep.feature_a, rep.feature_b, rep.params[0], rep.params[1], rep.params[2],
-                  rep.params[3], rep.trackers);
+                  rep.params[3], tracker.statistics().trackers);
     if (std::isfinite(error)) r.max_error = std::max(r.max_error, error);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

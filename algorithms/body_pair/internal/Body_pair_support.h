@@ -1,6 +1,6 @@
-// What the body-pair tracker's files share (Body_pair_tracker.cpp: tracks, broad phase,
-// steps; Body_pair_certification.cpp: the candidate pairs without a tracker;
-// Body_pair_overlap.cpp: bodies that overlap). Not API.
+// Geometric helpers the body-pair tracker's stages share: box sizes, keys of primitive pairs,
+// the bound on how much closer a relative motion brings two boxes, parameters of a global
+// result on a primitive. Not API.
 #pragma once
 
 #include <algorithm>
@@ -20,15 +20,6 @@ inline double box_diagonal(const Bbox_3& b) {
                    (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
                    (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
 }
-
-// A tracker's normalised projection errors (Track_result: sines of the angles off
-// stationarity) within this along its free parameters: converged on its pair. A tracked pair
-// carries a crease only then: it is about d e^2 / 2 above its minimum, far below the seeding
-// tolerance.
-constexpr double k_converged_error = 1e-6;
-// Beyond this, inside the bodies: not tracking a penetration pair at all (a Newton flow
-// wandering outside the basin of one), where a lagging tracker stays orders of magnitude below.
-constexpr double k_wandering_error = 1e-2;
 
 inline Bbox_3 inflate(const Bbox_3& b, double r) {
   return Bbox_3(b.xmin() - r, b.ymin() - r, b.zmin() - r, b.xmax() + r, b.ymax() + r, b.zmax() + r);

@@ -1,54 +1,21 @@
-// The body-pair tracker's candidate pairs without a tracker (Body_pair_tracker.h): checked
-// each step against a carried certified lower bound, kept up to date from the proofs of their
-// restricted solves, solved again (whole or only where the proofs fail) when it runs out, and
-// given a tracker when a solve finds them closer than the tracked minimum; in contact, seeded.
+// The kept-proof candidate stage's certification (Kept_proof_stage.h): candidate pairs without
+// a tracker checked each step against a carried certified lower bound, kept up to date from
+// the proofs of their restricted solves, solved again (whole or only where the proofs fail)
+// when it runs out, and given a tracker when a solve finds them closer than the tracked
+// minimum; in contact, seeded.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <new>
 
-#include "algorithms/body_pair/Body_pair_tracker.h"
 #include "algorithms/body_pair/internal/Body_pair_support.h"
-#include "algorithms/distance/internal/Restricted_solve.h"
+#include "algorithms/body_pair/internal/Kept_proof_stage.h"
 
-namespace extremal {
+namespace extremal::internal {
 
 namespace {
 
-using internal::approach_bound;
-using internal::Approach;
-using internal::closed_form_pair;
-using internal::key_a;
-using internal::key_b;
-using internal::k_converged_error;
-using internal::pair_key;
-using internal::params_from_global;
-
-// A pair's restricted solve is cut off at least this many steps' worth of the pair's relative
-// motion above the tracked minimum, so that its certified lower bound clears the next steps'
-// checks without a solve; nothing found below the cutoff costs little, and the next solve of
-// such a pair reaches k_slack_growth times higher (a far pair settles at its own minimum).
-constexpr double k_slack_steps = 8.0;
-constexpr double k_slack_growth = 4.0;
-// Trim-edge set-asides of a usual restricted solve must outlast this many steps' motion.
-constexpr double k_reach_steps = 2.0;
-// A proving solve (see check_vacated) is cut off this many steps' motion above the tracked
-// minimum: higher, the pairs near a trim edge need deeper splits to clear it. Measured on
-// scenario (c) of bench/compare at 1 kHz (sub-patch nodes of the restricted solves): 2 steps
-// 442k, 1 step 468k, 4 steps 523k, 8 steps 794k, no proving solve 486k.
-constexpr double k_proving_steps = 2.0;
-// A crease solve (see check_vacated) is cut off this fraction of the broad-phase margin above
-// the tracked minimum, and sets sub-patch pairs aside only when their gradient proof lasts as
-// much relative motion: higher, the sub-patch pairs straddling the cutoff (where the gradient
-// is small) cost more; lower, the solves come more often. Measured on scenario (b) of
-// bench/compare (sub-patch nodes of the restricted solves, corrections rows), since the kept
-// proofs re-check bounds: an eighth 179k / 43.9k / 18.1k nodes at 10 kHz / 1 kHz / 100 Hz,
-// a quarter 243k / 49.4k / 17.3k, a sixteenth 152k / 44.7k / 18.9k, a half 372k / 62.8k.
-// (Before the kept proofs, callgrind had a quarter beat an eighth at 1 kHz.) Its node budget
-// (100: more solves fall back, 497k nodes at 10 kHz): spent, the solve still leaves the bound
-// it reached, or falls back to the usual solve.
-constexpr double k_crease_fraction = 0.125;
-constexpr int k_crease_nodes = 200;
 // The line B turns about relative to A (world, kind Axis; none when they do not turn
 // relatively): the screw axis of the relative twist, through w x v(0) / |w|^2 along w.
 Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& V_B,
@@ -66,71 +33,46 @@ Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& 
 
 }  // namespace
 
-bool Body_pair_tracker::is_converged(const Live& L, double limit) const {
-  // Converged along every parameter not held on a domain bound (one held there keeps the
-  // crease's projection error): a tracker lagging behind its minimum (no corrections, a low
-  // gain) may sit above a point of its own pair, the crease among them.
-  const Feature& fa = m_model_a->primitives()[L.pa].feature;
-  const Feature& fb = m_model_b->primitives()[L.pb].feature;
-  const int na = fa.dimension();
-  for (int k = 0; k < na + fb.dimension(); ++k) {
-    const Feature& f = k < na ? fa : fb;
-    const int j = k < na ? k : k - na;
-    const double q = L.result.params[k];
-    if (!f.is_closed(j) && (q <= f.lower(j) || q >= f.upper(j))) continue;
-    if (!(std::abs(L.result.normalised_errors[k]) <= limit)) return false;
-  }
-  return true;
-}
-
-bool Body_pair_tracker::tracks_converged(int pa, int pb) const {
-  for (const Live& L : m_live)
-    if (L.alive && L.valid && !L.closed_form && L.pa == pa && L.pb == pb &&
-        is_converged(L, k_converged_error))
-      return true;
-  return false;
-}
-
-unsigned Body_pair_tracker::carried_sides(int side, int p, int other, double tol) const {
-  const Primitive& P = (side == 0 ? *m_model_a : *m_model_b).primitives()[p];
+unsigned Kept_proof_stage::carried_sides(int side, int p, int other, double tol) const {
+  const Primitive& P = (side == 0 ? *m_context.model_a : *m_context.model_b).primitives()[p];
   if (!P.is_surface()) return 0u;
   unsigned mask = 0u;
   for (int s = 0; s < 4; ++s) {
     const int n = P.side_neighbour[s];
-    if (n < 0 || !(P.side_gap[s] <= 0.25 * tol)) continue;
-    if (side == 0 ? tracks_converged(n, other) : tracks_converged(other, n)) mask |= 1u << s;
+    if (n < 0 || !(P.side_gap[s] <= k_crease_gap * tol)) continue;
+    if (side == 0 ? m_live.tracks_converged(n, other) : m_live.tracks_converged(other, n)) mask |= 1u << s;
   }
   return mask;
 }
 
-bool Body_pair_tracker::carriers_tracked(const Candidate& C) const {
+bool Kept_proof_stage::carriers_tracked(const Candidate& C) const {
   const int pa = key_a(C.key), pb = key_b(C.key);
   for (int side = 0; side < 2; ++side) {
     const unsigned mask = C.carried[side];
     if (!mask) continue;
-    const Primitive& P = (side == 0 ? *m_model_a : *m_model_b).primitives()[side == 0 ? pa : pb];
+    const Primitive& P = (side == 0 ? *m_context.model_a : *m_context.model_b).primitives()[side == 0 ? pa : pb];
     for (int s = 0; s < 4; ++s) {
       if (!(mask & (1u << s))) continue;
       const int n = P.side_neighbour[s];
-      if (!(side == 0 ? tracks_converged(n, pb) : tracks_converged(pa, n))) return false;
+      if (!(side == 0 ? m_live.tracks_converged(n, pb) : m_live.tracks_converged(pa, n))) return false;
     }
   }
   return true;
 }
 
-bool Body_pair_tracker::certifiable(int pa, int pb) const {
-  const Primitive& A = m_model_a->primitives()[pa];
-  const Primitive& B = m_model_b->primitives()[pb];
+bool Kept_proof_stage::certifiable(int pa, int pb) const {
+  const Primitive& A = m_context.model_a->primitives()[pa];
+  const Primitive& B = m_context.model_b->primitives()[pb];
   return A.global_element >= 0 && B.global_element >= 0 && !closed_form_pair(A, B);
 }
 
-void Body_pair_tracker::mark_tracked() {
+void Kept_proof_stage::mark_tracked() {
   for (Candidate& c : m_candidates) {
     c.tracked = false;
     c.tracked_distance = HUGE_VAL;
     c.tracked_slot = -1;
   }
-  for (std::size_t k = 0; k < m_live.size(); ++k) {
+  for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
     const Live& L = m_live[k];
     if (!L.alive) continue;
     const int i = find_candidate(pair_key(L.pa, L.pb));
@@ -144,7 +86,7 @@ void Body_pair_tracker::mark_tracked() {
   }
 }
 
-bool Body_pair_tracker::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
   mark_tracked();
   bool seeded = false;
   for (Candidate& C : m_candidates) {
@@ -156,37 +98,36 @@ bool Body_pair_tracker::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_po
     // seeded 7 apart, and read the cap's 1 where the corner's depth was 0.4.
     if (C.contact_seeded) {
       if (!(C.seeded_lower < HUGE_VAL)) continue;
-      const Approach moved = approach_bound(m_model_a->primitives()[pa].box,
-                                            m_model_b->primitives()[pb].box, C.seeded_at,
-                                            m_relative);
-      if (C.seeded_lower - moved.closer > m_options.contact_tolerance) continue;
+      const Approach moved = approach_bound(m_context.model_a->primitives()[pa].box,
+                                            m_context.model_b->primitives()[pb].box, C.seeded_at,
+                                            m_context.relative);
+      if (C.seeded_lower - moved.closer > m_context.options.contact_tolerance) continue;
     }
     C.contact_seeded = true;
-    const double lower = seed_pair(pa, pb, X_WA, X_WB);
+    const double lower = m_seeding.seed_pair(pa, pb, X_WA, X_WB);
     // (Seeded in contact, or without a certificate: not again until the broad phase renews it.)
-    C.seeded_lower = lower > m_options.contact_tolerance ? lower : HUGE_VAL;
-    C.seeded_at = m_relative;
+    C.seeded_lower = lower > m_context.options.contact_tolerance ? lower : HUGE_VAL;
+    C.seeded_at = m_context.relative;
     seeded = true;
   }
   return seeded;
 }
 
-bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                                       double best) {
   mark_tracked();
   bool meet = false;
-  const double tol = std::max(m_options.seeding.absolute_tolerance,
-                              m_options.seeding.relative_tolerance * best);
+  const double tol = std::max(m_context.options.seeding.absolute_tolerance,
+                              m_context.options.seeding.relative_tolerance * best);
   const double need_apart = best - tol;  // a pair certified at or above this holds nothing closer
-  bool seeded = false;
-  const Symmetry turning = m_VA != nullptr && m_VB != nullptr
-                               ? turn_axis(*m_VA, X_WA, *m_VB, X_WB)
+  const Symmetry turning = m_context.V_A != nullptr && m_context.V_B != nullptr
+                               ? turn_axis(*m_context.V_A, X_WA, *m_context.V_B, X_WB)
                                : Symmetry();
   // Tracked pairs are watched for a second basin of their own, except between two certified
   // convex bodies: apart, a local minimum of their distance is the global one. (Near contact
   // the watch is costly: its gap shrinks with the distance. Two balls 1e-3 apart rolling on
   // each other were solved every step, 100 times the time.)
-  const bool watch = m_options.own_basin_gap > 0.0 && !convex();
+  const bool watch = m_context.options.own_basin_gap > 0.0 && !m_context.convex();
   for (Candidate& C : m_candidates) {
     // A pair holds its tracked distance only through a valid tracker: one whose trackers all
     // hold nothing (wandering, or sat on a false solution where its surfaces cross: a ball
@@ -202,19 +143,19 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     double need = need_apart;
     double ceiling = HUGE_VAL;
     if (held) {
-      const double gap = std::max(4.0 * tol, m_options.own_basin_gap * C.tracked_distance);
+      const double gap = std::max(k_seeding_slack * tol, m_context.options.own_basin_gap * C.tracked_distance);
       need = std::min(need_apart, C.tracked_distance - gap);
-      ceiling = C.tracked_distance - 0.5 * gap;
+      ceiling = C.tracked_distance - k_watch_ceiling * gap;
     }
     auto below_ceiling = [&](double cutoff) { return std::max(need + tol, std::min(cutoff, ceiling)); };
-    const Primitive& A = m_model_a->primitives()[pa];
-    const Primitive& B = m_model_b->primitives()[pb];
-    ++m_report.vacated_checks;
+    const Primitive& A = m_context.model_a->primitives()[pa];
+    const Primitive& B = m_context.model_b->primitives()[pb];
+    ++m_context.stats.vacated_checks;
     // The bound carried from an earlier step, less how much closer the pair can have come;
     // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
     // side shared with a face whose pair is tracked) stay so while the relative motion is
     // below their gradient's reach and the carrying pairs are still tracked (see below).
-    const Approach moved = approach_bound(A.box, B.box, C.at, m_relative);
+    const Approach moved = approach_bound(A.box, B.box, C.at, m_context.relative);
     bool clear = C.lower - moved.closer >= need;
     if (!clear && C.bound_count > 0) {
       // The decay assumed the worst direction of motion for the whole pair: its last solve's
@@ -222,31 +163,31 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       const double now = bounds_now(C, need);
       if (now >= need) {
         clear = true;
-        ++m_report.vacated_bound_checks;
+        ++m_context.stats.vacated_bound_checks;
         C.lower = now;
-        C.at = m_relative;
+        C.at = m_context.relative;
       }
     }
     if (clear && carriers_tracked(C)) {
       const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
-      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_relative) : moved;
+      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_context.relative) : moved;
       if (since.move_b < C.reach[0] && since.move_a < C.reach[1]) continue;
       // Past the reach, which assumed the worst direction of motion: the set-aside pairs
       // checked again at this pose (the other box moved rigidly) usually still hold.
       std::array<double, 2> reach;
       if (proofs_hold(C, reach)) {
-        ++m_report.vacated_proof_checks;
+        ++m_context.stats.vacated_proof_checks;
         C.reach = reach;
-        C.reach_at = m_relative;
+        C.reach_at = m_context.relative;
         continue;
       }
     }
     const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
     if (boxes >= need) {
       C.lower = boxes;
-      C.at = m_relative;
+      C.at = m_context.relative;
       C.reach = {HUGE_VAL, HUGE_VAL};
-      C.reach_at = m_relative;
+      C.reach_at = m_context.relative;
       C.carried = {0u, 0u};
       m_kept_proof_total -= C.proof_count;
       m_kept_bound_total -= C.bound_count;
@@ -256,19 +197,19 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
     // pair when it holds something closer than the tracked minimum, and otherwise leaves a
     // lower bound that stays clear of `need` for the next steps.
-    ++m_report.vacated_solves;
-    if (clear) ++m_report.vacated_reach_solves;
-    const double step_motion = approach_bound(A.box, B.box, m_previous_relative, m_relative).closer;
+    ++m_context.stats.vacated_solves;
+    if (clear) ++m_context.stats.vacated_reach_solves;
+    const double step_motion = approach_bound(A.box, B.box, m_context.previous_relative, m_context.relative).closer;
     // At most the broad phase's margin: a cutoff far above the minimum would have the solver
     // settle every pair below it. When one step's motion exceeds that margin (low rates) the
     // bound cannot outlast the step anyway: cut off at `need` itself.
-    const double cap = reach_margin();
+    const double cap = m_context.reach_margin();
     const double slack =
         step_motion >= cap
-            ? 4.0 * tol
-            : std::max(4.0 * tol,
+            ? k_seeding_slack * tol
+            : std::max(k_seeding_slack * tol,
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
-    Distance_request request = m_options.seeding;
+    Distance_request request = m_context.options.seeding;
     internal::Proof_request proof;
     proof.keep_proofs = true;
     // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
@@ -302,15 +243,15 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // above it).
     // The pair's elements whole, or only the sub-patch pairs in m_restarts (`partial`).
     auto solve = [&](const Distance_request& r, const internal::Proof_request& p, bool partial) {
-      const Distance_hierarchy& ha = m_model_a->hierarchy();
-      const Distance_hierarchy& hb = m_model_b->hierarchy();
+      const Distance_hierarchy& ha = m_context.model_a->hierarchy();
+      const Distance_hierarchy& hb = m_context.model_b->hierarchy();
       Distance_result result =
           partial ? internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
                                                         B.global_element, m_restarts, r, p,
-                                                        m_workspace)
+                                                        m_context.workspace)
                   : internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                                        B.global_element, r, p, m_workspace);
-      m_report.vacated_nodes += result.nodes_created;
+                                                        B.global_element, r, p, m_context.workspace);
+      m_context.stats.vacated_nodes += result.nodes_created;
       return result;
     };
     // (Not for a tracked pair's watch: two tracked pairs on one crease would each leave the
@@ -322,8 +263,8 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
     // edge) would likewise be solved to its witness there every time: it is proved against a
     // cutoff too (floor `need`), its pairs at the edge set aside by their gradient. Untrimmed
     // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
-    const bool trimmed = m_model_a->hierarchy().elements()[A.global_element].trimmed ||
-                         m_model_b->hierarchy().elements()[B.global_element].trimmed;
+    const bool trimmed = m_context.model_a->hierarchy().elements()[A.global_element].trimmed ||
+                         m_context.model_b->hierarchy().elements()[B.global_element].trimmed;
     // An edge's pair whose last solve found its own minimum just above the tracked one (an edge
     // of a face beside the tracked point) would exhaust the proving budget at every check
     // against that minimum before the usual solve: it goes to the usual solve at once. (Faces'
@@ -340,13 +281,13 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
         first_proof.carried_sides = {carried_a, carried_b};
         // Cutoff and gradient reach alike (the motion either proof outlasts).
         const double crease_slack =
-            step_motion >= cap ? 4.0 * tol : std::max(4.0 * tol, k_crease_fraction * cap);
+            step_motion >= cap ? k_seeding_slack * tol : std::max(k_seeding_slack * tol, k_crease_fraction * cap);
         first.cutoff = below_ceiling(need + crease_slack);
         first_proof.carried_min_reach = crease_slack;
-        ++m_report.vacated_crease_solves;
+        ++m_context.stats.vacated_crease_solves;
       } else {
         first.cutoff =
-            below_ceiling(need + std::max(4.0 * tol, std::min(slack, k_proving_steps * step_motion)));
+            below_ceiling(need + std::max(k_seeding_slack * tol, std::min(slack, k_proving_steps * step_motion)));
         first_proof.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
       }
     }
@@ -371,35 +312,33 @@ bool Body_pair_tracker::check_vacated(const Rigid_pose_3& X_WA, const Rigid_pose
       carried_a = carried_b = 0u;
       kept = false;
     }
-    if (kept) ++m_report.vacated_partial_solves;
+    if (kept) ++m_context.stats.vacated_partial_solves;
     C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
-    C.at = m_relative;
+    C.at = m_context.relative;
     C.reach = g.carried_reach;
     if (kept)
       for (int side = 0; side < 2; ++side) C.reach[side] = std::min(C.reach[side], kept_reach[side]);
-    C.reach_at = m_relative;
+    C.reach_at = m_context.relative;
     C.carried = {carried_a, carried_b};
-    keep_proofs(C, Solve_pose{X_WA, m_relative}, kept);
+    keep_proofs(C, Solve_pose{X_WA, m_context.relative}, kept);
     C.slack = g.element_a < 0 ? slack : 0.0;
     C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
-    if (g.upper_bound <= m_options.contact_tolerance) meet = true;
+    if (g.upper_bound <= m_context.options.contact_tolerance) meet = true;
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
     // (A tracked pair's tracker moves to its closer basin.)
-    const int slot = C.tracked ? place(pa, pb, params, X_WA, X_WB) : add_live(pa, pb, params);
+    const int slot = C.tracked ? m_seeding.place(pa, pb, params, X_WA, X_WB) : m_live.add(pa, pb, params);
     m_live[slot].seeded_apart = true;
-    ++m_report.seeds;
-    ++m_report.vacated_seeds;
+    ++m_context.stats.seeds;
+    ++m_context.stats.vacated_seeds;
     C.tracked = true;
-    seeded = true;
   }
-  if (seeded) step_pending();
   return meet;
 }
 
-const Rigid_pose_3& Body_pair_tracker::Motions::b(int k) {
+const Rigid_pose_3& Kept_proof_stage::Motions::b(int k) {
   if (!(m_made_b & (1u << k))) {
     // X_WA0 X_AB X_AB0^-1 X_WA0^-1 (A's points move by its inverse with B held).
     const Solve_pose& s = m_solves[k];
@@ -412,7 +351,7 @@ const Rigid_pose_3& Body_pair_tracker::Motions::b(int k) {
   return m_b[k].pose;
 }
 
-const Rigid_pose_3& Body_pair_tracker::Motions::a(int k) {
+const Rigid_pose_3& Kept_proof_stage::Motions::a(int k) {
   if (!(m_made_a & (1u << k))) {
     new (&m_a[k].pose) Rigid_pose_3(b(k).inverse());
     m_made_a |= 1u << k;
@@ -420,9 +359,9 @@ const Rigid_pose_3& Body_pair_tracker::Motions::a(int k) {
   return m_a[k].pose;
 }
 
-bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
+bool Kept_proof_stage::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
   if (C.proof_count == 0) return false;
-  Motions m(solves_of(C), m_relative);
+  Motions m(solves_of(C), m_context.relative);
   reach = {HUGE_VAL, HUGE_VAL};
   for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
     const Gradient_proof& p = m_proofs[i].proof;
@@ -434,21 +373,21 @@ bool Body_pair_tracker::proofs_hold(const Candidate& C, std::array<double, 2>& r
   return true;
 }
 
-double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
+double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {
   if (C.bound_count == 0) return -HUGE_VAL;
-  Motions m(solves_of(C), m_relative);
+  Motions m(solves_of(C), m_context.relative);
   // A pair's bound less how far the primitives can have come closer since its solve (as the
   // carried bound decays) often clears `need` already: then it is not re-bounded. (A tracked
   // pair's own check re-bounds only the few pairs about its tracked basin.)
-  const Bbox_3& box_a = m_model_a->primitives()[key_a(C.key)].box;
-  const Bbox_3& box_b = m_model_b->primitives()[key_b(C.key)].box;
+  const Bbox_3& box_a = m_context.model_a->primitives()[key_a(C.key)].box;
+  const Bbox_3& box_b = m_context.model_b->primitives()[key_b(C.key)].box;
   double closer[k_kept_solves];
   unsigned made = 0u;
   double lowest = HUGE_VAL;
   for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
     const int k = m_bounds[i].solve;
     if (!(made & (1u << k))) {
-      closer[k] = approach_bound(box_a, box_b, solves_of(C)[k].relative, m_relative).closer;
+      closer[k] = approach_bound(box_a, box_b, solves_of(C)[k].relative, m_context.relative).closer;
       made |= 1u << k;
     }
     double b = m_bounds[i].proof.lower - closer[k];
@@ -459,12 +398,12 @@ double Body_pair_tracker::bounds_now(const Candidate& C, double need) const {
   return lowest;
 }
 
-bool Body_pair_tracker::plan_partial_solve(const Candidate& C, int element_a, int element_b,
+bool Kept_proof_stage::plan_partial_solve(const Candidate& C, int element_a, int element_b,
                                            double cutoff, double min_reach, int max_nodes,
                                            double& lower, std::array<double, 2>& reach) {
   if (C.solve_count == 0 || C.solve_count >= k_kept_solves || C.bound_count + C.proof_count == 0)
     return false;
-  Motions m(solves_of(C), m_relative);
+  Motions m(solves_of(C), m_context.relative);
   m_restarts.clear();
   m_keep_bound.assign(static_cast<std::size_t>(C.bound_count), 0);
   m_keep_proof.assign(static_cast<std::size_t>(C.proof_count), 0);
@@ -501,10 +440,10 @@ bool Body_pair_tracker::plan_partial_solve(const Candidate& C, int element_a, in
   // budget 293k, at most the budget 307k, at most half 374k; no limit 306k, and as1's scene
   // (BodyScenes) then ran away: a fallback's tens of thousands of kept pairs restarted at once,
   // over budget, falling back again.)
-  return m_restarts.size() <= 2 * static_cast<std::size_t>(max_nodes);
+  return m_restarts.size() <= k_partial_restarts * static_cast<std::size_t>(max_nodes);
 }
 
-Body_pair_tracker::Solve_pose* Body_pair_tracker::solves_of(Candidate& C) {
+Kept_proof_stage::Solve_pose* Kept_proof_stage::solves_of(Candidate& C) {
   if (C.solve_block < 0) {
     if (!m_free_solve_blocks.empty()) {
       C.solve_block = m_free_solve_blocks.back();
@@ -517,15 +456,15 @@ Body_pair_tracker::Solve_pose* Body_pair_tracker::solves_of(Candidate& C) {
   return m_solve_poses.data() + C.solve_block;
 }
 
-void Body_pair_tracker::release_solves(Candidate& C) {
+void Kept_proof_stage::release_solves(Candidate& C) {
   if (C.solve_block >= 0) m_free_solve_blocks.push_back(C.solve_block);
   C.solve_block = -1;
   C.solve_count = 0;
 }
 
-void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
-  const std::vector<Gradient_proof>& proofs = m_workspace.gradient_proofs();
-  const std::vector<Bound_proof>& bounds = m_workspace.bound_proofs();
+void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
+  const std::vector<Gradient_proof>& proofs = m_context.workspace.gradient_proofs();
+  const std::vector<Bound_proof>& bounds = m_context.workspace.bound_proofs();
   // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
   // below, which keeps the order within each range.
   if (!partial) {
@@ -540,7 +479,8 @@ void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool par
   const int counted_proofs = C.proof_count, counted_bounds = C.bound_count;
   // Ranges of re-solved or dropped candidates are stale: compact when they dominate, in place
   // (ranges slid down in the order they were written), so the pools keep their capacity.
-  if (m_proofs.size() > 2 * live_proofs + 1024 || m_bounds.size() > 2 * live_bounds + 4096) {
+  if (m_proofs.size() > k_compact_factor * live_proofs + k_compact_proofs ||
+      m_bounds.size() > k_compact_factor * live_bounds + k_compact_bounds) {
     m_order.clear();
     for (int i = 0; i < static_cast<int>(m_candidates.size()); ++i) m_order.push_back(i);
     auto compact = [&](auto& pool, int Candidate::*begin, int Candidate::*count) {
@@ -604,4 +544,4 @@ void Body_pair_tracker::keep_proofs(Candidate& C, const Solve_pose& at, bool par
   m_kept_bound_total += C.bound_count - counted_bounds;
 }
 
-}  // namespace extremal
+}  // namespace extremal::internal

@@ -1,27 +1,17 @@
-// The body-pair tracker where the bodies overlap (Body_pair_tracker.h): seeding the depth of
-// bodies that start or are found overlapping (one inside the other, convex, or where the
-// trackers at the common points find nothing), and checking deep inside whether the tracked
-// pair is still the depth (README, "Distances, contact and penetration").
+#include "algorithms/body_pair/internal/Depth_monitor.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "algorithms/body_pair/Body_pair_tracker.h"
-#include "algorithms/pair/Pair_geometry.h"
-#include "algorithms/distance/Penetration_depth.h"
 #include "algorithms/body_pair/internal/Body_pair_support.h"
-#include "algorithms/distance/internal/Restricted_solve.h"
+#include "algorithms/body_pair/internal/Tuning.h"
+#include "algorithms/pair/Pair_geometry.h"
 
-namespace extremal {
+namespace extremal::internal {
 
-using internal::approach_bound;
-using internal::box_diagonal;
-using internal::inflate;
-using internal::off_centre;
-using internal::params_from_global;
-
-void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA,
+void Depth_monitor::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA,
                                           const Rigid_pose_3& X_WB, const Vec3& n, double depth,
                                           Vec4& params) const {
   // The hull's witnesses of a continuum of equal penetration pairs (a shaft in a bore, flat on
@@ -33,8 +23,8 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   // and this is a seed.
   // A witness on a B-rep edge (the hulls' support at a box's rim, of a peg's side against its
   // side face: the generator's end at the top edge) starts from the faces at it instead.
-  const Tracking_model& MA = *m_model_a;
-  const Tracking_model& MB = *m_model_b;
+  const Tracking_model& MA = *m_context.model_a;
+  const Tracking_model& MB = *m_context.model_b;
   const Primitive& PA = MA.primitives()[pa];
   const Primitive& PB = MB.primitives()[pb];
   const auto face_or_edge = [](const Primitive& P) {
@@ -127,56 +117,35 @@ void Body_pair_tracker::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& 
   params = chosen;
 }
 
-void Body_pair_tracker::keep_solved(double distance, const Vec3& point_a, const Vec3& point_b,
-                                    const Vec3& normal, Element_kind kind_a, int element_a,
-                                    const std::array<double, 2>& params_a, Element_kind kind_b,
-                                    int element_b, const std::array<double, 2>& params_b) {
-  Solved& s = m_solved;
-  s.step = m_steps;
-  s.distance = distance;
-  s.point_a = point_a;
-  s.point_b = point_b;
-  s.normal = normal;
-  s.pa = element_a >= 0 ? m_model_a->primitive_of(kind_a, element_a) : -1;
-  s.pb = element_b >= 0 ? m_model_b->primitive_of(kind_b, element_b) : -1;
-  s.params.setZero();
-  if (s.pa >= 0 && s.pb >= 0) {
-    const Primitive& A = m_model_a->primitives()[s.pa];
-    params_from_global(A, params_a, s.params.data());
-    params_from_global(m_model_b->primitives()[s.pb], params_b,
-                       s.params.data() + A.feature.dimension());
-  }
-}
-
-bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA,
+bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA,
                                      const Rigid_pose_3& X_WB, bool local_seeds_failed,
                                      double deeper, const Overlap_test* known) {
-  keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
+  m_context.keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
               g.kind_b, g.element_b, g.params_b);
-  const Distance_hierarchy& HA = m_model_a->hierarchy();
-  const Distance_hierarchy& HB = m_model_b->hierarchy();
+  const Distance_hierarchy& HA = m_context.model_a->hierarchy();
+  const Distance_hierarchy& HB = m_context.model_b->hierarchy();
   const Overlap_test overlap =
-      known != nullptr ? *known : overlap_of(g, HA, X_WA, closed(0), HB, X_WB, closed(1));
+      known != nullptr ? *known : overlap_of(g, HA, X_WA, m_context.kind.closed(0), HB, X_WB, m_context.kind.closed(1));
   if (overlap.kind == Overlap_kind::None) return false;
   // Where the surfaces meet, the hulls' depth is the bodies' own when both are convex, or
   // when each witness lies inside the other body (two cylinders side by side); not so for a
   // nut on a bolt, whose hulls overlap by the bolt's length with the bolt's end outside the
   // nut. There the trackers seeded at the common points find the local pair first.
   const bool meet = overlap.kind == Overlap_kind::Surfaces_meet;
-  if (meet && !convex() && !local_seeds_failed) return false;
+  if (meet && !m_context.convex() && !local_seeds_failed) return false;
   if (!meet) {
     // One inside the other: at least as deep as the gap between the surfaces (the answer
     // should no depth be found), exactly so for a point, whose depth is its distance from the
     // surface.
-    keep_solved(-g.distance, g.point_a, g.point_b, -g.normal, g.kind_a, g.element_a, g.params_a,
+    m_context.keep_solved(-g.distance, g.point_a, g.point_b, -g.normal, g.kind_a, g.element_a, g.params_a,
                 g.kind_b, g.element_b, g.params_b);
-    if (m_model_a->body().is_point || m_model_b->body().is_point) {
-      const double tol = std::max(m_options.global.absolute_tolerance,
-                                  m_options.global.relative_tolerance * g.distance);
-      if (!g.is_certified() || !(-g.distance > deeper + tol) || m_solved.pa < 0 ||
-          m_solved.pb < 0)
+    if (m_context.model_a->body().is_point || m_context.model_b->body().is_point) {
+      const double tol = std::max(m_context.options.global.absolute_tolerance,
+                                  m_context.options.global.relative_tolerance * g.distance);
+      if (!g.is_certified() || !(-g.distance > deeper + tol) || m_context.solved.pa < 0 ||
+          m_context.solved.pb < 0)
         return false;
-      add_inside(m_solved.pa, m_solved.pb, m_solved.params, X_WA, X_WB);
+      m_seeding.add_inside(m_context.solved.pa, m_context.solved.pb, m_context.solved.params, X_WA, X_WB);
       return true;
     }
   }
@@ -184,7 +153,7 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   // tracked depth, only whether a pair is shallower than it matters: a coarse search, whose
   // certified bound decides (the tracker's corrections converge the seed).
   const bool against = deeper > -HUGE_VAL;
-  Signed_distance_request request = m_options.overlap;
+  Signed_distance_request request = m_context.options.overlap;
   if (against) request.relative_tolerance = std::max(request.relative_tolerance, 1e-3);
   const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
@@ -194,29 +163,29 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
   // shows whether it is: inside non-convex bodies the test passes pairs that are none, whose
   // seeds converge elsewhere or merge away.
   const bool missed =
-      against && meet && h.upper_bound < deeper - depth_tolerance(h.distance);
-  if (!missed && !((against ? h.lower_bound : h.distance) > deeper + depth_tolerance(h.distance)))
+      against && meet && h.upper_bound < deeper - m_context.depth_tolerance(h.distance);
+  if (!missed && !((against ? h.lower_bound : h.distance) > deeper + m_context.depth_tolerance(h.distance)))
     return false;  // a tracker holds it already
   // Should no tracker hold a pair, the hulls' depth is the answer reported (as `extremal
   // distance --signed` gives it), not the meeting surfaces' zero ('contact' for a ball deep in
   // a part's plate). Against a tracked depth the search is coarse, and the answer stays.
   if (!against)
-    keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
+    m_context.keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
                 h.kind_b, h.element_b, h.params_b);
   int pa = -1, pb = -1;
   Vec4 params = Vec4::Zero();
   if (!depth_pair(h, X_WA, X_WB, pa, pb, params)) {
-    pa = m_model_a->primitive_of(h.kind_a, h.element_a);
-    pb = m_model_b->primitive_of(h.kind_b, h.element_b);
+    pa = m_context.model_a->primitive_of(h.kind_a, h.element_a);
+    pb = m_context.model_b->primitive_of(h.kind_b, h.element_b);
     if (pa < 0 || pb < 0) return false;
-    params_from_global(m_model_a->primitives()[pa], h.params_a, params.data());
-    params_from_global(m_model_b->primitives()[pb], h.params_b,
-                       params.data() + m_model_a->primitives()[pa].feature.dimension());
+    params_from_global(m_context.model_a->primitives()[pa], h.params_a, params.data());
+    params_from_global(m_context.model_b->primitives()[pb], h.params_b,
+                       params.data() + m_context.model_a->primitives()[pa].feature.dimension());
   }
   centre_depth_seed(pa, pb, X_WA, X_WB, h.normal, h.distance, params);
-  if (meet && !convex()) {
-    const Primitive& A = m_model_a->primitives()[pa];
-    const Primitive& B = m_model_b->primitives()[pb];
+  if (meet && !m_context.convex()) {
+    const Primitive& A = m_context.model_a->primitives()[pa];
+    const Primitive& B = m_context.model_b->primitives()[pb];
     Feature_point fa, fb;
     evaluate_feature(A.feature, X_WA, params.data(), fa, 0);
     evaluate_feature(B.feature, X_WB, params.data() + A.feature.dimension(), fb, 0);
@@ -230,31 +199,31 @@ bool Body_pair_tracker::seed_overlap(const Distance_result& g, const Rigid_pose_
     // depth both are solids: check_deep leaves sheets before it.)
     // A witness on the other body's surface, to the seed's tolerance (centre_depth_seed's), is
     // in it: a ball inside a cylinder, touching its cap from within, has its depth's pair there.
-    const double on = 1e-4 * std::max({1.0, std::abs(h.distance), box_diagonal(m_model_a->box()),
-                                       box_diagonal(m_model_b->box())});
-    const bool test_a = closed(1), test_b = closed(0);
+    const double on = 1e-4 * std::max({1.0, std::abs(h.distance), box_diagonal(m_context.model_a->box()),
+                                       box_diagonal(m_context.model_b->box())});
+    const bool test_a = m_context.kind.closed(1), test_b = m_context.kind.closed(0);
     bool a_on_b = false, b_on_a = false;
     const bool a_in_b = test_a && (inside_body(HB, X_WB, fa.p, on, &a_on_b) || a_on_b);
     const bool b_in_a = test_b && (inside_body(HA, X_WA, fb.p, on, &b_on_a) || b_on_a);
     const bool all_in = (a_in_b || !test_a) && (b_in_a || !test_b);
     if (against && !missed ? !(a_in_b || b_in_a) : !all_in) return false;
   }
-  keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
+  m_context.keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
               h.kind_b, h.element_b, h.params_b);
   // A converged tracker on the same faces holds another local pair: the hulls' pair gets a
   // tracker beside it, not that one moved there (a ball in the cornetta's plate: its local
   // -0.38 was lost to a seed that never converged, and the rows read the hulls' -0.81; a
   // cylinder's side tumbling on a box: its far rim is the deeper).
-  if (missed && tracks_converged(pa, pb)) {
-    m_live[add_live(pa, pb, params)].through_contact = true;
-    ++m_report.seeds;
+  if (missed && m_live.tracks_converged(pa, pb)) {
+    m_live[m_live.add(pa, pb, params)].through_contact = true;
+    ++m_context.stats.seeds;
   } else {
-    add_inside(pa, pb, params, X_WA, X_WB);
+    m_seeding.add_inside(pa, pb, params, X_WA, X_WB);
   }
   return true;
 }
 
-bool Body_pair_tracker::depth_pair(const Signed_distance_result& h, const Rigid_pose_3& X_WA,
+bool Depth_monitor::depth_pair(const Signed_distance_result& h, const Rigid_pose_3& X_WA,
                                    const Rigid_pose_3& X_WB, int& pa, int& pb, Vec4& params) {
   // The hulls' witnesses are support points, each anywhere on its support set: two crossing
   // rods' are a generator each, and the search may return a rim of one and an end of the other,
@@ -263,73 +232,49 @@ bool Body_pair_tracker::depth_pair(const Signed_distance_result& h, const Rigid_
   // of it; centre_depth_seed picks the most central). Moved by the certified bound on the
   // depth, the hulls are apart (by at most the depth's tolerance). False also when the
   // witnesses face each other already (no solve needed).
-  const double shift = -h.lower_bound + depth_tolerance(h.distance);
+  const double shift = -h.lower_bound + m_context.depth_tolerance(h.distance);
   if (!(shift > 0.0) || !std::isfinite(shift)) return false;
   // Witnesses that face each other across the depth are its pair already (a ball's).
   if ((h.point_b - h.point_a - h.distance * h.normal).norm() <= 1e-2 * shift) return false;
   const Rigid_pose_3 X_WB_apart(X_WB.rotation(), X_WB.translation() + shift * h.normal);
-  Distance_request request = m_options.global;
+  Distance_request request = m_context.options.global;
   request.relative_tolerance = std::max(request.relative_tolerance, 1e-6);
-  ++m_report.audits;
-  const Distance_result g = extremal_distance(m_model_a->hierarchy(), X_WA, m_model_b->hierarchy(),
-                                              X_WB_apart, request, m_workspace);
+  ++m_context.stats.audits;
+  const Distance_result g = extremal_distance(m_context.model_a->hierarchy(), X_WA, m_context.model_b->hierarchy(),
+                                              X_WB_apart, request, m_context.workspace);
   if ((g.status != Distance_status::Converged && g.status != Distance_status::Touching) ||
       g.element_a < 0 || g.element_b < 0)
     return false;
-  pa = m_model_a->primitive_of(g.kind_a, g.element_a);
-  pb = m_model_b->primitive_of(g.kind_b, g.element_b);
+  pa = m_context.model_a->primitive_of(g.kind_a, g.element_a);
+  pb = m_context.model_b->primitive_of(g.kind_b, g.element_b);
   if (pa < 0 || pb < 0) return false;
-  params_from_global(m_model_a->primitives()[pa], g.params_a, params.data());
-  params_from_global(m_model_b->primitives()[pb], g.params_b,
-                     params.data() + m_model_a->primitives()[pa].feature.dimension());
+  params_from_global(m_context.model_a->primitives()[pa], g.params_a, params.data());
+  params_from_global(m_context.model_b->primitives()[pb], g.params_b,
+                     params.data() + m_context.model_a->primitives()[pa].feature.dimension());
   return true;
 }
 
-bool Body_pair_tracker::closed(int side) {
-  signed char& c = side == 0 ? m_closed_a : m_closed_b;
-  if (c < 0) c = body_closedness((side == 0 ? m_model_a : m_model_b)->body()).closed ? 1 : 0;
-  return c == 1;
+bool Depth_monitor::shallower_pair(double best) {
+  // (A step the pair holds nothing leaves its flag as it was: a pair flickering in and out of
+  // holding does not trigger a check each time.)
+  bool shallower_pair = false;
+  const double tol = m_context.options.contact_tolerance;
+  for (Live& L : m_live.slots()) {
+    if (!L.alive || !(L.valid || L.holds_unreached)) continue;
+    const bool shallower =
+        L.result.distance < -tol && L.result.distance > best + m_context.depth_tolerance(best);
+    if (shallower && !L.was_shallower) shallower_pair = true;
+    L.was_shallower = shallower;
+  }
+  return shallower_pair;
 }
 
-void Body_pair_tracker::add_inside(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
-                                   const Rigid_pose_3& X_WB) {
-  m_live[place(pa, pb, params, X_WA, X_WB)].through_contact = true;  // the depth's side
-  ++m_report.seeds;
-}
-
-bool Body_pair_tracker::convex() {
-  if (m_convex < 0)
-    m_convex = is_certified_convex(m_model_a->body()) && is_certified_convex(m_model_b->body());
-  return m_convex == 1;
-}
-
-double Body_pair_tracker::depth_tolerance(double depth) const {
-  return std::max(m_options.overlap.absolute_tolerance,
-                  m_options.overlap.relative_tolerance * std::abs(depth));
-}
-
-double Body_pair_tracker::boxes_bound() {
-  if (m_boxes_bound_at == m_steps) return m_boxes_bound;
-  // In A's frame: B's box is placed by X_AB. Along n, A reaches box_support(A, n) and B
-  // reaches down to -box_support(B, -R^T n) - n.t; the overlap is their difference.
-  const Bbox_3& a = m_model_a->box();
-  const Bbox_3& b = m_model_b->box();
-  const Mat3 R = m_relative.rotation();
-  const Vec3 t = m_relative.translation();
-  double least = HUGE_VAL;
-  for (int frame = 0; frame < 2; ++frame)
-    for (int axis = 0; axis < 3; ++axis)
-      for (const double sign : {1.0, -1.0}) {
-        const Vec3 n = sign * (frame == 0 ? Vec3(Vec3::Unit(axis)) : Vec3(R.col(axis)));
-        least = std::min(least, box_support(a, n) + box_support(b, -(R.transpose() * n)) - n.dot(t));
-      }
-  m_boxes_bound = least + depth_tolerance(least);
-  m_boxes_bound_at = m_steps;
-  return m_boxes_bound;
-}
-
-bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                   double best, bool force) {
+bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best,
+                          bool force) {
+  if (!(best < -m_context.options.contact_tolerance)) {
+    m_checked = HUGE_VAL;
+    return false;
+  }
   // Only past the normal form's band around contact (unless forced): there the tracked pair is
   // the one the bodies met at. Deeper, it is a saddle of the distance that goes on existing
   // after it stopped being the depth: a ball that passed the centre of a larger one still has
@@ -346,19 +291,19 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // went through a plane and out the other side kept its far pole's pair, -(gap + 2r) with
   // the bodies apart; while they still overlap the local pairs stay.
   const Live* deepest = nullptr;
-  for (const Live& L : m_live)
+  for (const Live& L : m_live.slots())
     if (L.alive && L.valid && L.result.distance == best) deepest = &L;
-  const bool solid_a = closed(0) || m_model_a->body().is_point;
-  const bool solid_b = closed(1) || m_model_b->body().is_point;
+  const bool solid_a = m_context.kind.closed(0) || m_context.model_a->body().is_point;
+  const bool solid_b = m_context.kind.closed(1) || m_context.model_b->body().is_point;
   // Sizes: the smaller body's, or the other one's for a point.
-  const bool point = m_model_a->body().is_point || m_model_b->body().is_point;
-  const double da = box_diagonal(m_model_a->box()), db = box_diagonal(m_model_b->box());
+  const bool point = m_context.model_a->body().is_point || m_context.model_b->body().is_point;
+  const double da = box_diagonal(m_context.model_a->box()), db = box_diagonal(m_context.model_b->box());
   const double size = point ? std::max(da, db) : std::min(da, db);
   // (The normal form holds for the step that reached a depth in one stride: fast motion.)
   const bool against_sheet = !solid_a || !solid_b;
   if ((!solid_a && !solid_b) || deepest == nullptr || deepest->closed_form ||
       (deepest->result.normal_form && -best <= 0.1 * size && !force)) {
-    m_deep_checked = HUGE_VAL;
+    m_checked = HUGE_VAL;
     return false;
   }
   const double step = 1e-2 * size;
@@ -367,8 +312,8 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // new pair grew past it (a screw through a plane, its shallower tip pair taking over at -11.7
   // under the checked -22.8, read -16 to -20 once out below, 0.7 to 4.3 apart). Two solids have
   // the motion check below for that.
-  if (against_sheet && std::isfinite(m_deep_checked))
-    m_deep_checked = std::max(m_deep_checked, best);
+  if (against_sheet && std::isfinite(m_checked))
+    m_checked = std::max(m_checked, best);
   // A point inside a body is also checked as it moves: its depth is its distance from the
   // surface, whose nearest face changes without the tracked one growing deeper (a point rising
   // in a cylinder nears the top cap); that check is one point query. Two solids likewise, once
@@ -379,18 +324,18 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // would be checked every few steps for nothing (67 times the time at 30 rad/s). A body
   // turning about its centre is not rechecked (a stale pair there waits for the depth to grow).
   // (How far the bodies moved since the last check, where that is read.)
-  const double moved_by = std::isfinite(m_deep_checked)
-                              ? approach_bound(m_model_a->box(), m_model_b->box(), m_deep_at,
-                                               m_relative).closer
+  const double moved_by = std::isfinite(m_checked)
+                              ? approach_bound(m_context.model_a->box(), m_context.model_b->box(), m_checked_at,
+                                               m_context.relative).closer
                               : HUGE_VAL;
-  bool moved = point && std::isfinite(m_deep_checked) && moved_by > step;
-  if (!point && !against_sheet && std::isfinite(m_deep_checked)) {
+  bool moved = point && std::isfinite(m_checked) && moved_by > step;
+  if (!point && !against_sheet && std::isfinite(m_checked)) {
     // Either body's centre, seen from the other, so that the order of the pair does not matter
     // (a peg tumbling on a box: the box's centre moves five times as far in the peg's frame).
-    const Vec3 cb = box_centre(m_model_b->box()), ca = box_centre(m_model_a->box());
-    const double b_moved = (m_relative.apply_point(cb) - m_deep_at.apply_point(cb)).norm();
+    const Vec3 cb = box_centre(m_context.model_b->box()), ca = box_centre(m_context.model_a->box());
+    const double b_moved = (m_context.relative.apply_point(cb) - m_checked_at.apply_point(cb)).norm();
     const double a_moved =
-        (m_relative.inverse().apply_point(ca) - m_deep_at.inverse().apply_point(ca)).norm();
+        (m_context.relative.inverse().apply_point(ca) - m_checked_at.inverse().apply_point(ca)).norm();
     moved = std::max(a_moved, b_moved) > 10.0 * step;
   }
   // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
@@ -400,31 +345,31 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // through a curved sheet can stay that deep while they overlap).
   bool past_sheet = false;
   if (against_sheet && moved_by > 1e-3 * size) {
-    const Bbox_3& box = solid_a ? m_model_a->box() : m_model_b->box();
+    const Bbox_3& box = solid_a ? m_context.model_a->box() : m_context.model_b->box();
     const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
     past_sheet = -best >= box_support(box, n) + box_support(box, -n);
   }
-  if (!(best < m_deep_checked - step) && !moved && !past_sheet && !force) return false;
-  m_deep_checked = best;
-  m_deep_at = m_relative;
-  const Distance_result g = global_solve(X_WA, X_WB);
-  const Overlap_test overlap = overlap_of(g, m_model_a->hierarchy(), X_WA, closed(0),
-                                          m_model_b->hierarchy(), X_WB, closed(1));
+  if (!(best < m_checked - step) && !moved && !past_sheet && !force) return false;
+  m_checked = best;
+  m_checked_at = m_context.relative;
+  const Distance_result g = m_context.global_solve(X_WA, X_WB);
+  const Overlap_test overlap = overlap_of(g, m_context.model_a->hierarchy(), X_WA, m_context.kind.closed(0),
+                                          m_context.model_b->hierarchy(), X_WB, m_context.kind.closed(1));
   // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
   // the ones just placed (not stepped yet).
   auto drop_inside = [&](double above) {
-    for (std::size_t k = 0; k < m_live.size(); ++k) {
+    for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
       const Live& L = m_live[k];
-      if (L.alive && L.stepped != -1 && L.result.distance < -m_options.contact_tolerance &&
+      if (L.alive && L.stepped != -1 && L.result.distance < -m_context.options.contact_tolerance &&
           L.result.distance < above)
-        kill(static_cast<int>(k));
+        m_live.kill(static_cast<int>(k));
     }
   };
   if (overlap.kind == Overlap_kind::None) {
     if (overlap.unknown || !g.is_certified() || !(g.lower_bound > 0.0)) return false;
     drop_inside(HUGE_VAL);  // apart after all: the certified pair
-    seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
-    m_deep_checked = HUGE_VAL;
+    m_seeding.seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
+    m_checked = HUGE_VAL;
     return true;
   }
   if (against_sheet) return false;
@@ -434,9 +379,9 @@ bool Body_pair_tracker::check_deep(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // bounds the bodies' translation distance, so a deeper tracked pair is stale: two crossing
   // rods past the middle); otherwise the local pairs stay (seed_overlap).
   if (!seed_overlap(g, X_WA, X_WB, true, best, &overlap)) return false;
-  m_deep_checked = m_solved.distance;
-  drop_inside(m_solved.distance - depth_tolerance(m_solved.distance));
+  m_checked = m_context.solved.distance;
+  drop_inside(m_context.solved.distance - m_context.depth_tolerance(m_context.solved.distance));
   return true;
 }
 
-}  // namespace extremal
+}  // namespace extremal::internal

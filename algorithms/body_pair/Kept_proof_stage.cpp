@@ -1,0 +1,196 @@
+#include "algorithms/body_pair/internal/Kept_proof_stage.h"
+
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+
+namespace extremal::internal {
+
+namespace {
+
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
+                                                      CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
+
+// Whether two relative poses are equal to rounding (their difference no motion at all).
+bool near_pose(const Rigid_pose_3& x, const Rigid_pose_3& y, double length) {
+  return (x.rotation() - y.rotation()).cwiseAbs().maxCoeff() <= k_same_pose &&
+         (x.translation() - y.translation()).cwiseAbs().maxCoeff() <= k_same_pose * length;
+}
+
+}  // namespace
+
+struct Kept_proof_stage::Broad_scratch {
+  std::vector<Box> boxes_a, boxes_b;
+  std::vector<std::pair<std::uint64_t, double>> found;  // (key, box distance), sorted by key
+};
+
+int Kept_proof_stage::find_candidate(std::uint64_t key) const {
+  const auto it = std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
+                                   [](const Candidate& c, std::uint64_t k) { return c.key < k; });
+  return it != m_candidates.end() && it->key == key ? static_cast<int>(it - m_candidates.begin())
+                                                    : -1;
+}
+
+void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                    double reach) {
+  const Tracking_model& A = *m_context.model_a;
+  const Tracking_model& B = *m_context.model_b;
+  // Cut each body's tree by the other body's world box (inflated by the reach) taken into its
+  // frame: what remains is near the other body.
+  const Bbox_3 wa = transformed(A.box(), X_WA);
+  const Bbox_3 wb = transformed(B.box(), X_WB);
+  m_prims_a.clear();
+  m_prims_b.clear();
+  const bool edges_a = !(B.has_mesh() || B.body().is_point);
+  const bool edges_b = !(A.has_mesh() || A.body().is_point);
+  A.collect(transformed(inflate(wb, reach), X_WA.inverse()), edges_a, m_prims_a);
+  B.collect(transformed(inflate(wa, reach), X_WB.inverse()), edges_b, m_prims_b);
+  // World boxes of the survivors, inflated by half the reach each: boxes that intersect are
+  // within the reach along every axis; the exact box distance decides.
+  auto& ba = m_scratch->boxes_a;
+  auto& bb = m_scratch->boxes_b;
+  ba.clear();
+  bb.clear();
+  m_world_a.clear();
+  m_world_b.clear();
+  for (int p : m_prims_a) {
+    m_world_a.push_back(transformed(A.primitives()[p].box, X_WA));
+    ba.emplace_back(inflate(m_world_a.back(), 0.5 * reach), static_cast<int>(m_world_a.size()) - 1);
+  }
+  for (int p : m_prims_b) {
+    m_world_b.push_back(transformed(B.primitives()[p].box, X_WB));
+    bb.emplace_back(inflate(m_world_b.back(), 0.5 * reach), static_cast<int>(m_world_b.size()) - 1);
+  }
+  const Rigid_pose_3 relative = X_WA.inverse() * X_WB;
+  // Sorted as (key, distance) pairs, then made candidates: a candidate is large (its kept
+  // solves' poses), and sorting them moved 4% of a step's time in a contact of many pairs.
+  auto& found = m_scratch->found;
+  found.clear();
+  CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(),
+                           [&](const Box& x, const Box& y) {
+                             const int i = x.info(), j = y.info();
+                             const double d = box_distance(m_world_a[i], m_world_b[j]);
+                             if (d > reach) return;
+                             found.emplace_back(pair_key(m_prims_a[i], m_prims_b[j]), d);
+                           });
+  std::sort(found.begin(), found.end());  // (keys are distinct)
+  m_next_candidates.clear();
+  for (const auto& [key, d] : found) {
+    Candidate c;
+    c.key = key;
+    c.lower = d;  // the boxes hold the primitives
+    c.at = relative;
+    m_next_candidates.push_back(c);
+  }
+  // Pairs that left: their trackers go. Pairs that entered: their box distance is their bound
+  // (check_vacated certifies them apart, seed_in_contact seeds them in contact), but pairs
+  // those cannot certify are seeded now. Pairs that stayed keep their carried bound unless the
+  // box distance now is at least as high.
+  // (By key: in contact every candidate pair has a tracker, and thousands of mesh triangles'
+  // pairs made a scan of the trackers per candidate most of a step.)
+  m_live.index();
+  std::size_t i = 0, j = 0;
+  auto drop = [&](std::uint64_t key) { m_live.each_live(key, [&](int k) { m_live.kill(k); }); };
+  while (i < m_candidates.size() || j < m_next_candidates.size()) {
+    if (j == m_next_candidates.size() ||
+        (i < m_candidates.size() && m_candidates[i].key < m_next_candidates[j].key)) {
+      release_solves(m_candidates[i]);
+      drop(m_candidates[i++].key);
+    } else if (i == m_candidates.size() || m_next_candidates[j].key < m_candidates[i].key) {
+      const std::uint64_t key = m_next_candidates[j++].key;
+      // (A tracker may have arrived by a transition.)
+      const int pa = key_a(key), pb = key_b(key);
+      if (!certifiable(pa, pb)) {
+        bool tracked = false;
+        m_live.each_live(key, [&](int) { tracked = true; });
+        if (!tracked) m_seeding.seed_pair(pa, pb, X_WA, X_WB);
+      }
+    } else {
+      // The carried bound (with its pose, reach and carried sides) when it is the higher one;
+      // the slack in any case, and so, for a pair seeded in contact whose solve certified it
+      // apart, that bound and pose (see seed_in_contact).
+      Candidate& next = m_next_candidates[j];
+      Candidate& was = m_candidates[i];
+      if (was.lower > next.lower) {
+        next = was;
+      } else {
+        release_solves(was);  // (its proofs go with it)
+        next.slack = was.slack;
+        if (was.seeded_lower < HUGE_VAL) {
+          next.contact_seeded = was.contact_seeded;
+          next.seeded_lower = was.seeded_lower;
+          next.seeded_at = was.seeded_at;
+        }
+      }
+      ++i;
+      ++j;
+    }
+  }
+  // Trackers that moved by transitions onto pairs outside the set go too.
+  auto by_key = [](const Candidate& c, std::uint64_t k) { return c.key < k; };
+  for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
+    if (!m_live[k].alive) continue;
+    const std::uint64_t key = pair_key(m_live[k].pa, m_live[k].pb);
+    const auto it = std::lower_bound(m_next_candidates.begin(), m_next_candidates.end(), key, by_key);
+    if (it == m_next_candidates.end() || it->key != key) m_live.kill(static_cast<int>(k));
+  }
+  m_candidates.swap(m_next_candidates);
+  m_kept_proof_total = m_kept_bound_total = 0;
+  for (const Candidate& c : m_candidates) {
+    m_kept_proof_total += c.proof_count;
+    m_kept_bound_total += c.bound_count;
+  }
+  m_last_relative = relative;
+  m_broad_reach = reach;
+  ++m_context.stats.broad_phases;
+}
+
+Kept_proof_stage::Kept_proof_stage(Pair_context& context, Live_set& live, Pair_seeding& seeding)
+    : m_context(context), m_live(live), m_seeding(seeding),
+      m_scratch(std::make_unique<Broad_scratch>()) {}
+
+Kept_proof_stage::~Kept_proof_stage() = default;
+
+void Kept_proof_stage::clear() {
+  m_candidates.clear();
+  m_proofs.clear();
+  m_bounds.clear();
+  m_solve_poses.clear();
+  m_free_solve_blocks.clear();
+  m_kept_proof_total = m_kept_bound_total = 0;
+}
+
+void Kept_proof_stage::refresh(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach) {
+  broad_phase(X_WA, X_WB, reach);
+}
+
+void Kept_proof_stage::update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) {
+  // A set built with reach R holds every pair that was within R then, so every pair within R
+  // less the relative motion since: made anew once that falls below |best| plus the margin,
+  // reaching farther by a fraction of the margin (k_broad_extra) so as to last.
+  const Pair_context& c = m_context;
+  const double margin = c.reach_margin();
+  const double reach = std::abs(best) + margin;
+  if (near_pose(c.relative, m_last_relative, c.length())) return;
+  const double moved =
+      approach_bound(c.model_a->box(), c.model_b->box(), m_last_relative, c.relative).closer;
+  if (reach + moved > m_broad_reach) broad_phase(X_WA, X_WB, reach + k_broad_extra * margin);
+}
+
+void Kept_proof_stage::track(int pa, int pb, const Rigid_pose_3& relative) {
+  const std::uint64_t key = pair_key(pa, pb);
+  if (find_candidate(key) >= 0) return;
+  Candidate c;
+  c.key = key;
+  c.lower = -std::numeric_limits<double>::infinity();  // no bound yet
+  c.at = relative;
+  m_candidates.insert(std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
+                                       [](const Candidate& x, std::uint64_t k) { return x.key < k; }),
+                      c);
+}
+
+}  // namespace extremal::internal

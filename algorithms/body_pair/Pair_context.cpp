@@ -1,0 +1,125 @@
+#include "algorithms/body_pair/internal/Pair_context.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/body_pair/internal/Tuning.h"
+#include "algorithms/distance/Solid_classification.h"
+
+namespace extremal {
+
+// The features of a body: its faces, then its curves; a point body is its origin.
+std::vector<Feature> features_of(const Body& body);
+
+namespace internal {
+
+const char* to_string(Body_kind k) {
+  switch (k) {
+    case Body_kind::Solid: return "solid";
+    case Body_kind::Open_sheet: return "open sheet";
+    case Body_kind::Curve: return "curve";
+    case Body_kind::Point: return "point";
+    case Body_kind::Closed_mesh: return "closed mesh";
+    case Body_kind::Open_mesh: return "open mesh";
+  }
+  return "?";
+}
+
+namespace {
+
+Body_kind kind_of(const Tracking_model& m) {
+  const Body& b = m.body();
+  if (b.is_point) return Body_kind::Point;
+  if (m.has_mesh()) return m.closed() ? Body_kind::Closed_mesh : Body_kind::Open_mesh;
+  if (b.faces.empty()) return Body_kind::Curve;
+  return m.closed() ? Body_kind::Solid : Body_kind::Open_sheet;
+}
+
+}  // namespace
+
+Pair_kind Pair_kind::of(const Tracking_model& A, const Tracking_model& B) {
+  Pair_kind k;
+  k.a = kind_of(A);
+  k.b = kind_of(B);
+  k.sign = !k.closed(0) && k.closed(1) ? Sign_policy::Normal_of_closed_b : Sign_policy::Normal_of_a;
+  return k;
+}
+
+Pair_context::Pair_context(std::shared_ptr<const Tracking_model> a,
+                           std::shared_ptr<const Tracking_model> b, const Body_pair_options& o)
+    : model_a(std::move(a)), model_b(std::move(b)), options(o),
+      kind(Pair_kind::of(*model_a, *model_b)), features_a(features_of(model_a->body())),
+      features_b(features_of(model_b->body())) {
+  options.tracker.sign_from_b = kind.sign == Sign_policy::Normal_of_closed_b;
+}
+
+double Pair_context::length() const {
+  return std::max(box_diagonal(model_a->box()), box_diagonal(model_b->box()));
+}
+
+double Pair_context::reach_margin() const {
+  if (options.broad_margin > 0.0) return options.broad_margin;
+  return k_default_broad_margin * std::min(box_diagonal(model_a->box()), box_diagonal(model_b->box()));
+}
+
+Distance_result Pair_context::global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  ++stats.audits;
+  return extremal_distance(model_a->hierarchy(), X_WA, model_b->hierarchy(), X_WB, options.global,
+                           workspace);
+}
+
+void Pair_context::keep_solved(double distance, const Vec3& point_a, const Vec3& point_b,
+                                    const Vec3& normal, Element_kind kind_a, int element_a,
+                                    const std::array<double, 2>& params_a, Element_kind kind_b,
+                                    int element_b, const std::array<double, 2>& params_b) {
+  Solved& s = solved;
+  s.step = steps;
+  s.distance = distance;
+  s.point_a = point_a;
+  s.point_b = point_b;
+  s.normal = normal;
+  s.pa = element_a >= 0 ? model_a->primitive_of(kind_a, element_a) : -1;
+  s.pb = element_b >= 0 ? model_b->primitive_of(kind_b, element_b) : -1;
+  s.params.setZero();
+  if (s.pa >= 0 && s.pb >= 0) {
+    const Primitive& A = model_a->primitives()[s.pa];
+    params_from_global(A, params_a, s.params.data());
+    params_from_global(model_b->primitives()[s.pb], params_b,
+                       s.params.data() + A.feature.dimension());
+  }
+}
+
+bool Pair_context::convex() {
+  if (m_convex < 0)
+    m_convex = is_certified_convex(model_a->body()) && is_certified_convex(model_b->body());
+  return m_convex == 1;
+}
+
+double Pair_context::depth_tolerance(double depth) const {
+  return std::max(options.overlap.absolute_tolerance,
+                  options.overlap.relative_tolerance * std::abs(depth));
+}
+
+double Pair_context::boxes_bound() {
+  if (m_boxes_bound_at == steps) return m_boxes_bound;
+  // In A's frame: B's box is placed by X_AB. Along n, A reaches box_support(A, n) and B
+  // reaches down to -box_support(B, -R^T n) - n.t; the overlap is their difference.
+  const Bbox_3& a = model_a->box();
+  const Bbox_3& b = model_b->box();
+  const Mat3 R = relative.rotation();
+  const Vec3 t = relative.translation();
+  double least = HUGE_VAL;
+  for (int frame = 0; frame < 2; ++frame)
+    for (int axis = 0; axis < 3; ++axis)
+      for (const double sign : {1.0, -1.0}) {
+        const Vec3 n = sign * (frame == 0 ? Vec3(Vec3::Unit(axis)) : Vec3(R.col(axis)));
+        least = std::min(least, box_support(a, n) + box_support(b, -(R.transpose() * n)) - n.dot(t));
+      }
+  m_boxes_bound = least + depth_tolerance(least);
+  m_boxes_bound_at = steps;
+  return m_boxes_bound;
+}
+
+}  // namespace internal
+}  // namespace extremal

@@ -1,0 +1,37 @@
+// The candidate stage of a body-pair tracker: which primitive pairs may hold the minimum (the
+// broad phase), and the certificate that those without a tracker hold nothing closer than the
+// tracked minimum, seeding a tracker where one does. Kept_proof_stage is the one in use; a
+// certified front carried across steps replaces it behind this interface. Not API.
+#pragma once
+
+#include "kernel/Rigid_pose_3.h"
+
+namespace extremal::internal {
+
+class Candidate_stage {
+ public:
+  virtual ~Candidate_stage() = default;
+  // Forgets every candidate (the tracker starts again).
+  virtual void clear() = 0;
+  // The candidates made anew: every primitive pair whose boxes lie within `reach` at these
+  // poses.
+  virtual void refresh(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach) = 0;
+  // Each step with a finite tracked minimum `best`: the candidates made anew where they may
+  // miss a pair within |best| plus the broad margin (inside, the tracked pair's own primitives
+  // lie |best| apart).
+  virtual void update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) = 0;
+  // Apart (`best` above the contact tolerance): certifies that no candidate pair without a
+  // tracker, nor a tracked pair's other basin, holds a pair closer than `best`, seeding those
+  // that do. True if it certified a pair whose surfaces meet (the bodies are not apart).
+  virtual bool certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) = 0;
+  // In contact: seeds the candidate pairs without a tracker once (and again once the motion may
+  // have closed the gap a seed's solve certified). True if it seeded.
+  virtual bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) = 0;
+  // A tracker another stage placed on pair (pa, pb): the pair becomes a candidate (its bound
+  // unknown) if it is not one.
+  virtual void track(int pa, int pb, const Rigid_pose_3& relative) = 0;
+  // Live candidate pairs.
+  virtual int size() const = 0;
+};
+
+}  // namespace extremal::internal

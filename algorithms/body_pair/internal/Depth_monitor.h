@@ -1,0 +1,62 @@
+// The depth monitor of a body-pair tracker: where the bodies overlap, it seeds the depth of
+// bodies that start or are found overlapping (one inside the other, convex, or where the
+// trackers at the common points find nothing), and checks deep inside whether the tracked pair
+// is still the depth (a saddle of the distance goes on existing after it stops being one). Not
+// API.
+#pragma once
+
+#include "algorithms/body_pair/internal/Pair_seeding.h"
+#include "algorithms/distance/Penetration_depth.h"
+
+namespace extremal::internal {
+
+class Depth_monitor {
+ public:
+  Depth_monitor(Pair_context& context, Live_set& live, Pair_seeding& seeding)
+      : m_context(context), m_live(live), m_seeding(seeding) {}
+
+  // Forgets the last check (the tracker starts again).
+  void reset() { m_checked = HUGE_VAL; }
+  // After the trackers stepped, with the tracked minimum `best`: whether a penetration pair
+  // has just become shallower than `best` by more than the depth tolerance (held, or held but
+  // for not having come through contact: it may be the depth now); once per crossing.
+  bool shallower_pair(double best);
+  // Deep inside (`best` < 0 past the normal form's band, or `force`): the certified solver
+  // says whether the bodies still overlap. Apart, the penetrating trackers go and the certified
+  // pair is tracked; inside, where the hulls' depth is the bodies' (convex, or one inside the
+  // other), its pair replaces the trackers deeper than it. True if it changed them. Not
+  // inside (`best` at or above minus the contact tolerance): forgets the last check.
+  bool check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best, bool force);
+  // When one body lies inside the other (g apart), or both are convex and g says their
+  // surfaces meet: a tracker, through contact, on the penetration pair of their hulls (of a
+  // point inside a body: g's pair, its distance from the surface). Keeps the answer of g (or
+  // of the depth) for a report that no tracker holds. True if it seeded. Non-convex bodies
+  // whose surfaces meet: only once the trackers seeded at the common points found no
+  // penetration pair (`local_seeds_failed`), and only when each of the hulls' witnesses lies
+  // inside the other body (against a tracked depth, one of them). Only when the depth is above
+  // `deeper` by more than its tolerance (a tracked pair as deep holds it already). `known`:
+  // overlap_of(g) when the caller has it.
+  bool seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                    bool local_seeds_failed, double deeper = -HUGE_VAL,
+                    const Overlap_test* known = nullptr);
+
+ private:
+  // The pair of hull depth h (the closest pair of A and of B moved apart by the depth), as
+  // primitives and tracker parameters. False when h's own witnesses face each other across the
+  // depth (they are the pair) or that solve fails.
+  bool depth_pair(const Signed_distance_result& h, const Rigid_pose_3& X_WA,
+                  const Rigid_pose_3& X_WB, int& pa, int& pb, Vec4& params);
+  // Moves a penetration seed on pair (pa, pb) (unit `n` from A to B, `depth` < 0) to the most
+  // central pair of the same depth when it lies on a continuum of them, on its faces or on
+  // faces beside its witnesses.
+  void centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                         const Vec3& n, double depth, Vec4& params) const;
+
+  Pair_context& m_context;
+  Live_set& m_live;
+  Pair_seeding& m_seeding;
+  double m_checked = HUGE_VAL;  // the tracked minimum at the last check
+  Rigid_pose_3 m_checked_at;    // and X_AB there
+};
+
+}  // namespace extremal::internal

@@ -1,0 +1,186 @@
+// The candidate stage in use (Candidate_stage.h): a broad phase over the two bodies' boxes, and
+// for each candidate pair without a tracker a certified lower bound carried across steps,
+// decayed by the relative motion since it was certified and kept up to date from the proofs of
+// the pair's restricted solves (re-checked at the current pose; where they fail, only the
+// failing sub-patch pairs are solved again). In contact every candidate pair is tracked. Not
+// API.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "algorithms/body_pair/internal/Candidate_stage.h"
+#include "algorithms/body_pair/internal/Pair_seeding.h"
+#include "algorithms/body_pair/internal/Tuning.h"
+#include "algorithms/distance/internal/Restricted_solve.h"
+
+namespace extremal::internal {
+
+class Kept_proof_stage final : public Candidate_stage {
+ public:
+  Kept_proof_stage(Pair_context& context, Live_set& live, Pair_seeding& seeding);
+  ~Kept_proof_stage() override;
+
+  void clear() override;
+  void refresh(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach) override;
+  void update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) override;
+  bool certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) override;
+  bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) override;
+  void track(int pa, int pb, const Rigid_pose_3& relative) override;
+  int size() const override { return static_cast<int>(m_candidates.size()); }
+
+ private:
+  // The poses of a restricted solve whose proofs a candidate keeps: A placed at `a`, and
+  // X_AB = `relative`.
+  struct Solve_pose {
+    Rigid_pose_3 a, relative;
+  };
+  // A candidate pair, sorted by key (pa << 32 | pb), with a certified lower bound on its
+  // distance at the relative pose X_AB it was established at (its box distance when it
+  // entered, then the restricted solver's lower bound); the bound is carried between steps and
+  // decreased by how far the relative motion since can have brought the pair closer.
+  struct Candidate {
+    std::uint64_t key = 0;
+    double lower = 0.0;
+    Rigid_pose_3 at;  // X_AB when `lower` held
+    // How far above the tracked minimum its last restricted solve was cut off, when that
+    // solve found nothing below the cutoff (0 otherwise): the next one reaches higher.
+    double slack = 0.0;
+    // When that solve set sub-patch pairs aside (Distance_result::carried_reach): how far B's
+    // points may move in A's frame ([0]) and A's in B's ([1]) before `lower` stops holding, and
+    // the sides of A's and B's primitive (carried_sides bits) whose neighbours' pairs must stay
+    // tracked.
+    std::array<double, 2> reach{{HUGE_VAL, HUGE_VAL}};
+    Rigid_pose_3 reach_at;  // X_AB the reach counts from (`at`, or where the proofs last held)
+    std::array<unsigned, 2> carried{{0u, 0u}};
+    // The proofs behind the carried bound: the pairs its restricted solves set aside
+    // (m_proofs[proof_begin, + proof_count)) and those they bounded (m_bounds[bound_begin, +
+    // bound_count)), each in the world frame of the solve that made it (solves[its index]).
+    // When the carried bound or the reach runs out, certify_apart checks them again at the
+    // current pose instead of solving again, and solves again only the pairs that fail.
+    int proof_begin = 0, proof_count = 0, bound_begin = 0, bound_count = 0;
+    // Its kept solves' poses: m_solve_poses[solve_block, + solve_count) (a block of
+    // k_kept_solves made on its first kept solve; -1: none). Kept apart from the candidate,
+    // which the broad phase sorts, copies and mostly drops untouched.
+    int solve_block = -1;
+    int solve_count = 0;
+    bool tracked = false;  // scratch of mark_tracked: a live slot tracks the pair
+    // Scratch of mark_tracked: the least distance of the pair's live trackers whose witnesses
+    // lie on the bodies (infinity: none).
+    double tracked_distance = HUGE_VAL;
+    int tracked_slot = -1;  // the live slot at that distance
+    bool contact_seeded = false;  // seed_in_contact gave it a tracker
+    // The lower bound of the pair's distance that seed's solve certified, at X_AB = seeded_at
+    // (infinity: seeded in contact, or no certificate): while the motion since cannot have
+    // closed it, the pair is not seeded again.
+    double seeded_lower = HUGE_VAL;
+    Rigid_pose_3 seeded_at;
+    // Its last restricted solve found the pair's own minimum, at or above the tracked one: a
+    // stationary point no proving cutoff above the tracked minimum settles (certify_apart).
+    bool holds_own_minimum = false;
+  };
+  // The relative motion since each of a candidate's kept solves, as motions of B's points with
+  // A held (b) or A's with B held (a), in those solves' world frames, and the lengths their
+  // rounding scales with; each made on first use.
+  class Motions {
+   public:
+    Motions(const Solve_pose* solves, const Rigid_pose_3& relative)
+        : m_solves(solves), m_relative(relative) {}
+    const Rigid_pose_3& b(int k);
+    const Rigid_pose_3& a(int k);
+    double length(int k) {
+      b(k);
+      return m_length[k];
+    }
+
+   private:
+    // Made in place on first use (these run for every check: no identities written ahead).
+    union Slot {
+      Slot() {}
+      Rigid_pose_3 pose;
+    };
+    const Solve_pose* m_solves;  // the candidate's kept solves
+    const Rigid_pose_3& m_relative;
+    Slot m_b[k_kept_solves], m_a[k_kept_solves];
+    double m_length[k_kept_solves];
+    unsigned m_made_b = 0, m_made_a = 0;
+  };
+  struct Kept_proof {
+    Gradient_proof proof;
+    int solve = 0;  // index into its candidate's solves
+  };
+  struct Kept_bound {
+    Bound_proof proof;
+    int solve = 0;
+  };
+
+  void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
+  // Index of `key` in m_candidates, or -1.
+  int find_candidate(std::uint64_t key) const;
+  // Whether certify_apart can certify primitive pair (pa, pb) without a tracker: both have
+  // global elements and the pair is not a closed form (those always get a tracker).
+  bool certifiable(int pa, int pb) const;
+  // Sets Candidate::tracked for the candidates a live slot tracks.
+  void mark_tracked();
+  // Sides of primitive p of body `side` (0 A, 1 B) shared (within a fraction of tol, Tuning.h)
+  // with a neighbour whose pair with `other` is tracked: the crease sides a restricted solve
+  // may declare carried.
+  unsigned carried_sides(int side, int p, int other, double tol) const;
+  // Whether the neighbours across a candidate's carried sides are still tracked.
+  bool carriers_tracked(const Candidate& C) const;
+  // Whether every set-aside pair of C's last solve still holds its gradient proof at the
+  // current relative pose; if so, `reach` gets how far each side may move from here on.
+  bool proofs_hold(const Candidate& C, std::array<double, 2>& reach) const;
+  // The smallest bound of the pairs C's last solve bounded, re-bounded at the current relative
+  // pose; stops early once one falls below `need`. -infinity if the solve kept none.
+  double bounds_now(const Candidate& C, double need) const;
+  // Where C's kept proofs no longer clear `cutoff` at the current pose (a bound re-bounded
+  // below it, a set-aside pair whose gradient proof fails or lasts less than `min_reach`):
+  // their sub-patch pairs into m_restarts, the others marked kept (m_keep_bound, m_keep_proof)
+  // with the lowest bound (`lower`) and reaches (`reach`) they give. False when C is better
+  // solved anew: no proofs, as many kept solves as it may hold, or more failing pairs than
+  // twice the solve's node budget `max_nodes` (their sub-patches would exhaust it).
+  bool plan_partial_solve(const Candidate& C, int element_a, int element_b, double cutoff,
+                          double min_reach, int max_nodes, double& lower,
+                          std::array<double, 2>& reach);
+  // Appends the workspace's proofs of the solve just made at pose `at` to m_proofs and
+  // m_bounds as C's, after those of C's earlier proofs a partial solve kept (`partial`;
+  // otherwise they are dropped), and drops the ranges of candidates no longer listed when too
+  // many are stale.
+  void keep_proofs(Candidate& C, const Solve_pose& at, bool partial);
+  // C's block, made on first use (which may move the others: no pointer outlives a call).
+  Solve_pose* solves_of(Candidate& C);
+  const Solve_pose* solves_of(const Candidate& C) const {
+    return C.solve_block < 0 ? nullptr : m_solve_poses.data() + C.solve_block;
+  }
+  // Gives C's block back (a candidate dropped, or replaced without its proofs).
+  void release_solves(Candidate& C);
+
+  Pair_context& m_context;
+  Live_set& m_live;
+  Pair_seeding& m_seeding;
+  std::vector<Candidate> m_candidates, m_next_candidates;
+  std::vector<Kept_proof> m_proofs;
+  std::vector<Kept_bound> m_bounds;
+  // Blocks of k_kept_solves poses (Candidate::solve_block), and the free ones.
+  std::vector<Solve_pose> m_solve_poses;
+  std::vector<int> m_free_solve_blocks;
+  // The candidates' proof_count and bound_count summed: the entries of m_proofs and m_bounds
+  // still read (the rest are stale ranges, compacted away by keep_proofs).
+  long m_kept_proof_total = 0, m_kept_bound_total = 0;
+  std::vector<int> m_order;  // scratch of keep_proofs
+  // Scratch of plan_partial_solve.
+  std::vector<Sub_patch_pair> m_restarts;
+  std::vector<unsigned char> m_keep_proof, m_keep_bound;
+  // Scratch of the broad phase.
+  std::vector<int> m_prims_a, m_prims_b;
+  std::vector<Bbox_3> m_world_a, m_world_b;
+  struct Broad_scratch;
+  std::unique_ptr<Broad_scratch> m_scratch;
+  Rigid_pose_3 m_last_relative;       // X_AB at the last broad phase
+  double m_broad_reach = -HUGE_VAL;  // the reach it was run with
+};
+
+}  // namespace extremal::internal

@@ -1,0 +1,109 @@
+// The live set of a body-pair tracker: a tracker (or a closed form) per tracked primitive pair
+// in reusable slots, found by pair key, stepped once a step with its reading judged
+// (Reading_rules), handed across edges and patch sides when its point leaves its primitive,
+// and merged with another that reached the same pair. Not API.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/body_pair/internal/Pair_context.h"
+
+namespace extremal::internal {
+
+// One slot: a tracked primitive pair and what its readings have shown.
+struct Live {
+  int pa = -1, pb = -1;  // primitives
+  bool closed_form = false;  // a mesh triangle against a triangle or the point: no tracker
+  bool alive = false;
+  bool valid = false;  // the reading holds a pair of the bodies (Reading_rules)
+  Reading_rule rejected_by = Reading_rule::None;  // the rule that rejected it, if not valid
+  Regime regime = Regime::Apart;  // of the last reading
+  long stepped = -1;   // the step it was last stepped in
+  bool through_contact = false;  // it reached its side of contact through the contact band
+  // Its reading would hold but for not having come through contact (a pair seeded inside);
+  // and it read a depth shallower than the tracked one at the last step (Depth_monitor).
+  bool holds_unreached = false;
+  bool was_shallower = false;
+  // Seeded from a solve that found the bodies apart; and it has read the pair behind an open
+  // sheet since its first step, never in front (Reading_rules).
+  bool seeded_apart = false;
+  bool behind_sheet = false;
+  Extremal_tracker tracker{Feature::point(Vec3::Zero()), Feature::point(Vec3::Zero()), Vec4::Zero()};
+  Track_result result;
+};
+
+// Whether slot L's normalised projection errors are within `limit` along every parameter not
+// held on a domain bound (one held there keeps the crease's projection error).
+bool is_converged_along_free(const Pair_context& context, const Live& L, double limit);
+
+class Live_set {
+ public:
+  explicit Live_set(Pair_context& context);
+
+  std::vector<Live>& slots() { return m_live; }
+  const std::vector<Live>& slots() const { return m_live; }
+  Live& operator[](int k) { return m_live[static_cast<std::size_t>(k)]; }
+  const Live& operator[](int k) const { return m_live[static_cast<std::size_t>(k)]; }
+  // Counts adds, kills and resets: a stage that changed it leaves it different.
+  long generation() const { return m_generation; }
+
+  // A tracker (or closed form) on primitive pair (pa, pb) from parameters; returns its slot.
+  int add(int pa, int pb, const Vec4& params);
+  void kill(int k);
+  void kill_all();
+  // The pair's live tracker moved to `params` (another basin), one whose witnesses left the
+  // bodies first; -1 if the pair has none.
+  int move(int pa, int pb, const Vec4& params);
+
+  // Steps every live slot not yet stepped at this step, with up to three hand-overs each.
+  void step_pending();
+  // The least distance over the live slots whose readings hold (infinity: none).
+  double best() const;
+  bool any_valid() const;
+  int count() const;
+
+  // Whether slot L's normalised projection errors are within `limit` along every parameter
+  // not held on a domain bound (is_converged_along_free).
+  bool is_converged(const Live& L, double limit) const {
+    return is_converged_along_free(m_context, L, limit);
+  }
+  // A live slot on (pa, pb) whose witnesses lie on the bodies, converged.
+  bool tracks_converged(int pa, int pb) const;
+
+  // The live slots' (key, slot), sorted by key then slot; good until the next add or
+  // transition: a slot killed or reused since no longer matches its entry (each_live checks),
+  // and new slots are not in it.
+  void index();
+  // Calls f(slot) for each live slot on primitive pair `key` (see pair_key), by the index.
+  template <class F>
+  void each_live(std::uint64_t key, F f) const;
+  // Trackers of one primitive pair whose witnesses coincide: one goes (the one that holds
+  // nothing, else the later).
+  void merge_duplicates();
+
+ private:
+  void step_live(int k);
+  // Hands slot k across an edge or side when its point left its primitive; true if it moved.
+  bool transition(int k);
+
+  Pair_context& m_context;
+  std::vector<Live> m_live;
+  std::vector<int> m_free;  // free slots of m_live
+  std::vector<std::pair<std::uint64_t, int>> m_keys;  // see index
+  long m_generation = 0;
+};
+
+template <class F>
+void Live_set::each_live(std::uint64_t key, F f) const {
+  auto e = std::lower_bound(m_keys.begin(), m_keys.end(), std::make_pair(key, -1));
+  for (; e != m_keys.end() && e->first == key; ++e) {
+    const Live& L = m_live[static_cast<std::size_t>(e->second)];
+    if (L.alive && pair_key(L.pa, L.pb) == key) f(e->second);
+  }
+}
+
+}  // namespace extremal::internal

@@ -1,0 +1,83 @@
+// What every stage of a body-pair tracker shares (Body_pair_tracker.cpp): the two prepared
+// bodies, the options, the pair's kind, this step's inputs, the statistics, the certified
+// solver's workspace and its last answer. Not API.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "algorithms/body_pair/Body_pair_options.h"
+#include "algorithms/body_pair/Pair_report.h"
+#include "algorithms/body_pair/Tracking_model.h"
+#include "algorithms/body_pair/internal/Pair_kind.h"
+
+namespace extremal::internal {
+
+// The certified solver's last answer (start, re-seed, depth check): reported at its step when
+// no tracker holds a pair.
+struct Solved {
+  double distance = 0.0;
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
+  int pa = -1, pb = -1;  // primitives
+  Vec4 params = Vec4::Zero();
+  long step = -1;  // Pair_context::steps when it was made
+};
+
+class Pair_context {
+ public:
+  Pair_context(std::shared_ptr<const Tracking_model> a, std::shared_ptr<const Tracking_model> b,
+               const Body_pair_options& options);
+
+  const Tracking_model& model(int side) const { return side == 0 ? *model_a : *model_b; }
+  const Primitive& primitive(int side, int p) const { return model(side).primitives()[p]; }
+  // The larger body's box diagonal (the length rounding and merges scale with).
+  double length() const;
+  // The broad phase's margin: Body_pair_options::broad_margin, or a fraction of the smaller
+  // body (Tuning.h).
+  double reach_margin() const;
+  // The depth search's tolerance at `depth` (Body_pair_options::overlap).
+  double depth_tolerance(double depth) const;
+  // The least overlap of the two bodies' boxes along the axes of either frame, at `relative`,
+  // plus its tolerance: an upper bound on the depth of two solids (a translation that parts the
+  // boxes parts them). Made once a step.
+  double boxes_bound();
+  // Whether both bodies are certified convex (made on first use).
+  bool convex();
+  // The global solver on the whole pair (Body_pair_options::global), counted as an audit.
+  Distance_result global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // `solved` from a solver's witness pair.
+  void keep_solved(double distance, const Vec3& point_a, const Vec3& point_b, const Vec3& normal,
+                   Element_kind kind_a, int element_a, const std::array<double, 2>& params_a,
+                   Element_kind kind_b, int element_b, const std::array<double, 2>& params_b);
+  template <class Result>
+  void keep_solved(const Result& r) {
+    keep_solved(r.distance, r.point_a, r.point_b, r.normal, r.kind_a, r.element_a, r.params_a,
+                r.kind_b, r.element_b, r.params_b);
+  }
+
+  std::shared_ptr<const Tracking_model> model_a, model_b;
+  Body_pair_options options;
+  Pair_kind kind;
+  std::vector<Feature> features_a, features_b;
+
+  // This step's inputs (Body_pair_tracker::step), read by the trackers' steps and transitions.
+  double t = 0.0, dt = 1e-3;
+  const Rigid_pose_3* X_WA = nullptr;
+  const Rigid_pose_3* X_WB = nullptr;
+  const Twist_3* V_A = nullptr;
+  const Twist_3* V_B = nullptr;
+  Rigid_pose_3 relative, previous_relative;  // X_AB at this step and the one before
+  long steps = 0;                            // steps begun since construction
+
+  Pair_statistics stats;
+  Distance_workspace workspace;
+  Solved solved;
+
+ private:
+  double m_boxes_bound = HUGE_VAL;
+  long m_boxes_bound_at = -1;
+  signed char m_convex = -1;
+};
+
+}  // namespace extremal::internal

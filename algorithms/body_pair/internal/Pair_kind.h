@@ -1,0 +1,48 @@
+// What the two bodies of a pair are (fixed at construction), whose normal gives the sign of
+// a reading, and the regime of a reading (computed once per step). Not API.
+#pragma once
+
+#include "algorithms/body_pair/Tracking_model.h"
+
+namespace extremal::internal {
+
+// A body's kind: closed B-rep faces enclose a solid; open ones are a sheet; a body of curves
+// only, a point, or a triangle mesh (closed when every edge has two triangles).
+enum class Body_kind { Solid, Open_sheet, Curve, Point, Closed_mesh, Open_mesh };
+const char* to_string(Body_kind k);
+
+// Whose outward normal gives a reading's sign: A's (where A is a surface at its witness, else
+// B's), or, for an A that is not closed (a sheet, a curve, a point, an open mesh) against a
+// closed B, B's wherever B's witness is inside one of its faces (a sheet's normal does not tell
+// a solid's inside; Tracker_options::sign_from_b; test ProbeScenes.ASolidLeftBehindASheetIsApart).
+enum class Sign_policy { Normal_of_a, Normal_of_closed_b };
+
+struct Pair_kind {
+  Body_kind a = Body_kind::Solid, b = Body_kind::Solid;
+  Sign_policy sign = Sign_policy::Normal_of_a;
+
+  static Pair_kind of(const Tracking_model& A, const Tracking_model& B);
+  Body_kind side(int s) const { return s == 0 ? a : b; }
+  // Encloses a volume (a solid or a closed mesh): it has an inside a depth can be read in.
+  bool closed(int s) const { return side(s) == Body_kind::Solid || side(s) == Body_kind::Closed_mesh; }
+  bool point(int s) const { return side(s) == Body_kind::Point; }
+  // Closed, or a point: a depth against it is a depth (a point inside a body is at its depth).
+  bool solid_or_point(int s) const { return closed(s) || point(s); }
+  bool both_closed() const { return closed(0) && closed(1); }
+  bool any_point() const { return point(0) || point(1); }
+  // One side closed and the other an open body (a sheet, a curve, an open mesh).
+  bool closed_against_open() const { return closed(0) != closed(1) && !any_point(); }
+};
+
+// Where a reading lies: apart (d above the contact tolerance), in the contact band (|d| within
+// it), inside the normal form's band about contact, or deep (past it: Extremal_tracker's
+// normal form off).
+enum class Regime { Apart, Contact_band, Inside_band, Deep };
+inline Regime regime_of(double distance, double contact_tolerance, bool normal_form) {
+  if (distance > contact_tolerance) return Regime::Apart;
+  if (distance >= -contact_tolerance) return Regime::Contact_band;
+  return normal_form ? Regime::Inside_band : Regime::Deep;
+}
+inline bool is_inside(Regime r) { return r == Regime::Inside_band || r == Regime::Deep; }
+
+}  // namespace extremal::internal
