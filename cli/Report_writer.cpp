@@ -7,8 +7,13 @@ namespace extremal::cli {
 
 namespace {
 
-// The detail column: why the tracker fell back, or that the certified solver answered.
-const char* detail(const Pair_report& r) { return r.solved ? "solved" : to_string(r.degeneracy); }
+// The detail column: why the tracker fell back, or that the certified solver answered (with the
+// reading rule that rejected the closest tracker's reading, if one did).
+std::string detail(const Pair_report& r) {
+  if (!r.solved) return to_string(r.degeneracy);
+  if (r.rejected_by == Reading_rule::None) return "solved";
+  return std::string("solved: ") + to_string(r.rejected_by);
+}
 
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 

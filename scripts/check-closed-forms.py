@@ -14,6 +14,21 @@ import time
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 exe = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "build", "cli", "extremal")
+def spun_support(t):
+    """ellipsoid_spinning_through_plane.json: h(z) = |D R^T z| of the ellipsoid (1.5, 1, 0.6)
+    turned pi/4 about x, then spun at w = (1.5, 2, 0.7) for t seconds (R = exp([w] t) R0)."""
+    w = (1.5, 2.0, 0.7)
+    speed = math.sqrt(sum(c * c for c in w))
+    n = [c / speed for c in w]
+    a, cos_a, sin_a = speed * t, math.cos(speed * t), math.sin(speed * t)
+    # Row 2 of exp([n] a) (Rodrigues), then of that times R0 (pi/4 about x).
+    row = [(1 - cos_a) * n[2] * n[0] - sin_a * n[1], (1 - cos_a) * n[2] * n[1] + sin_a * n[0],
+           cos_a + (1 - cos_a) * n[2] * n[2]]
+    r0 = math.sqrt(0.5)
+    row = [row[0], r0 * (row[1] + row[2]), r0 * (row[2] - row[1])]
+    return math.sqrt(sum((row[k] * d) ** 2 for k, d in enumerate((1.5, 1.0, 0.6))))
+
+
 closed_forms = [
     ("shaft_in_bore.json", lambda t: -3.0),                            # radial way out
     ("balls_start_deep.json", lambda t: math.hypot(1.5, 0.5 * t) - 2.0),  # |c| - 2
@@ -24,6 +39,9 @@ closed_forms = [
     ("ellipsoid_under_plane.json",
      lambda t: 1.5 - math.sqrt(2.25 * math.sin(1.2) ** 2 + 0.25 * math.cos(1.2) ** 2)),
     ("balls_spinning_near_contact.json", lambda t: 0.001),
+    # Entered from above: c_z - h until out below, then -(c_z + h); h its support along z.
+    ("ellipsoid_spinning_through_plane.json",
+     lambda t: (lambda c, h: c - h if c + h > 0.0 else -(c + h))(2.0 - 2.0 * t, spun_support(t))),
 ]
 with tempfile.TemporaryDirectory() as tmp:
     out = os.path.join(tmp, "rows.csv")

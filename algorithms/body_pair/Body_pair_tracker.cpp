@@ -36,7 +36,6 @@ const char* to_string(Reading_rule r) {
     case Reading_rule::Depth_normals_not_opposed: return "depth_normals_not_opposed";
     case Reading_rule::Apart_witness_inside: return "apart_witness_inside";
     case Reading_rule::Deeper_than_boxes: return "deeper_than_boxes";
-    case Reading_rule::Open_witness_outside_solid_box: return "open_witness_outside_solid_box";
     case Reading_rule::Edge_outside_wedge: return "edge_outside_wedge";
     case Reading_rule::Depth_not_reached_through_contact: return "depth_not_reached_through_contact";
   }
@@ -371,6 +370,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   // ProbeScenes.AScrewPushedThroughAPlaneIsApartOnceOut).
   if (c.solved.step != c.steps && !s.live.any_valid()) s.solve_lost(X_WA, X_WB);
   s.fill_report();
+  s.depth.note_report(r, X_WA);
   c.previous_relative = c.relative;
   s.last_A = X_WA;
   s.last_B = X_WB;

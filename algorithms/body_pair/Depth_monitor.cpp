@@ -36,7 +36,7 @@ void Depth_monitor::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA
   Feature_point wa, wb;
   evaluate_feature(PA.feature, X_WA, params.data(), wa, 0);
   evaluate_feature(PB.feature, X_WB, params.data() + nb, wb, 0);
-  const double tol = 1e-4 * std::max({1.0, std::abs(depth), box_diagonal(MA.box()),
+  const double tol = k_depth_seed_tolerance * std::max({1.0, std::abs(depth), box_diagonal(MA.box()),
                                       box_diagonal(MB.box())});
   // The faces whose boxes hold a witness (its own, and those across the rim it sits on).
   auto faces_at = [tol](const Tracking_model& M, const Rigid_pose_3& X, const Vec3& w, int own,
@@ -52,8 +52,8 @@ void Depth_monitor::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA
   std::vector<int> faces_a, faces_b;
   faces_at(MA, X_WA, wa.p, pa, faces_a);
   faces_at(MB, X_WB, wb.p, pb, faces_b);
-  constexpr double k_aligned = 1.0 - 1e-6;
-  constexpr int n_samples = 8;
+  constexpr double k_aligned = 1.0 - k_depth_seed_aligned;
+  constexpr int n_samples = k_depth_seed_grid;
   const Rigid_pose_3 identity;
   double best = both_faces ? off_centre(PA.feature, params.data()) +
                                  off_centre(PB.feature, params.data() + nb)
@@ -154,9 +154,21 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
   // certified bound decides (the tracker's corrections converge the seed).
   const bool against = deeper > -HUGE_VAL;
   Signed_distance_request request = m_context.options.overlap;
-  if (against) request.relative_tolerance = std::max(request.relative_tolerance, 1e-3);
-  const Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
+  if (against) request.relative_tolerance = std::max(request.relative_tolerance, k_coarse_depth_tolerance);
+  Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
+  // A solid through an open sheet keeps the depth of the side it entered by (m_sheet_side):
+  // where the hulls' depth is the other side's (the shallower, past half way), the depth along
+  // the opposite direction is seeded (test
+  // SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningFastKeepsItsEntrySideWhenItsTrackerIsLost).
+  bool entry_side = m_sheet_side.norm() > 0.5 && meet &&
+                    h.normal.dot(X_WA.rotation() * m_sheet_side) < 0.0;
+  if (entry_side) {
+    const Signed_distance_result e =
+        directional_signed_distance(HA, X_WA, HB, X_WB, -h.normal, request);
+    entry_side = e.is_certified() && e.distance <= 0.0 && e.element_a >= 0 && e.element_b >= 0;
+    if (entry_side) h = e;
+  }
   // Hulls deeper than every tracked pair, where the surfaces meet: its pair, when each witness
   // lies inside the other body (below), may be a depth no tracker saw arise (a cylinder
   // tumbling on a box, its far rim now the deeper: it read -9.1 against -25.7). Its tracker
@@ -183,7 +195,7 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
                        params.data() + m_context.model_a->primitives()[pa].feature.dimension());
   }
   centre_depth_seed(pa, pb, X_WA, X_WB, h.normal, h.distance, params);
-  if (meet && !m_context.convex()) {
+  if (meet && !m_context.convex() && !entry_side) {  // (the entry side's foot may lie outside)
     const Primitive& A = m_context.model_a->primitives()[pa];
     const Primitive& B = m_context.model_b->primitives()[pb];
     Feature_point fa, fb;
@@ -199,7 +211,7 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
     // depth both are solids: check_deep leaves sheets before it.)
     // A witness on the other body's surface, to the seed's tolerance (centre_depth_seed's), is
     // in it: a ball inside a cylinder, touching its cap from within, has its depth's pair there.
-    const double on = 1e-4 * std::max({1.0, std::abs(h.distance), box_diagonal(m_context.model_a->box()),
+    const double on = k_depth_seed_tolerance * std::max({1.0, std::abs(h.distance), box_diagonal(m_context.model_a->box()),
                                        box_diagonal(m_context.model_b->box())});
     const bool test_a = m_context.kind.closed(1), test_b = m_context.kind.closed(0);
     bool a_on_b = false, b_on_a = false;
@@ -235,10 +247,10 @@ bool Depth_monitor::depth_pair(const Signed_distance_result& h, const Rigid_pose
   const double shift = -h.lower_bound + m_context.depth_tolerance(h.distance);
   if (!(shift > 0.0) || !std::isfinite(shift)) return false;
   // Witnesses that face each other across the depth are its pair already (a ball's).
-  if ((h.point_b - h.point_a - h.distance * h.normal).norm() <= 1e-2 * shift) return false;
+  if ((h.point_b - h.point_a - h.distance * h.normal).norm() <= k_facing_pair * shift) return false;
   const Rigid_pose_3 X_WB_apart(X_WB.rotation(), X_WB.translation() + shift * h.normal);
   Distance_request request = m_context.options.global;
-  request.relative_tolerance = std::max(request.relative_tolerance, 1e-6);
+  request.relative_tolerance = std::max(request.relative_tolerance, k_depth_pair_tolerance);
   ++m_context.stats.audits;
   const Distance_result g = extremal_distance(m_context.model_a->hierarchy(), X_WA, m_context.model_b->hierarchy(),
                                               X_WB_apart, request, m_context.workspace);
@@ -271,97 +283,102 @@ bool Depth_monitor::shallower_pair(double best) {
 
 bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best,
                           bool force) {
-  if (!(best < -m_context.options.contact_tolerance)) {
+  const Pair_context& c = m_context;
+  const double tol = c.options.contact_tolerance;
+  if (!(best < -tol)) {
     m_checked = HUGE_VAL;
     return false;
   }
-  // Only past the normal form's band around contact (unless forced): there the tracked pair is
-  // the one the bodies met at. Deeper, it is a saddle of the distance that goes on existing
-  // after it stopped being the depth: a ball that passed the centre of a larger one still has
-  // its entry pair, deeper than the exit pair, and once out the other side the entry pair is
-  // still there, negative, with the bodies apart.
-  // Such a stale pair grows deeper as the bodies move on: the check runs again once the
-  // depth grew by a hundredth of the smaller body since the last one (a pair that stays as
-  // deep, a shaft turning in a bore, is checked once; bodies that move, below). Between checks
-  // a stale pair can be off by twice that; each check costs a solve and, for convex bodies, a
-  // coarse hull depth.
-  // Two open sheets are not checked: a sheet's inside is the side its normal points away from,
-  // and a pair behind it stays inside however far (a plane passed through another keeps its
-  // sign). A solid (or a point) against a sheet is checked for coming apart only: a ball that
-  // went through a plane and out the other side kept its far pole's pair, -(gap + 2r) with
-  // the bodies apart; while they still overlap the local pairs stay.
+  // Inside the normal form's band the tracked pair is the one the bodies met at; deeper, a
+  // saddle of the distance that outlives its being the depth (a ball through a larger one keeps
+  // its entry pair, negative once out: Contact.DeepPassagesReportTheDepthAndLeaveApart). Two
+  // open sheets are never checked (a pair behind a sheet stays inside however far); a solid or a
+  // point against an open body is checked for coming apart only.
   const Live* deepest = nullptr;
   for (const Live& L : m_live.slots())
     if (L.alive && L.valid && L.result.distance == best) deepest = &L;
-  const bool solid_a = m_context.kind.closed(0) || m_context.model_a->body().is_point;
-  const bool solid_b = m_context.kind.closed(1) || m_context.model_b->body().is_point;
-  // Sizes: the smaller body's, or the other one's for a point.
-  const bool point = m_context.model_a->body().is_point || m_context.model_b->body().is_point;
-  const double da = box_diagonal(m_context.model_a->box()), db = box_diagonal(m_context.model_b->box());
-  const double size = point ? std::max(da, db) : std::min(da, db);
-  // (The normal form holds for the step that reached a depth in one stride: fast motion.)
+  const bool solid_a = c.kind.solid_or_point(0), solid_b = c.kind.solid_or_point(1);
+  const bool point = c.kind.any_point();
+  const double da = box_diagonal(c.model_a->box()), db = box_diagonal(c.model_b->box());
+  const double size = point ? std::max(da, db) : std::min(da, db);  // the other's, for a point
   const bool against_sheet = !solid_a || !solid_b;
+  // A solid against an open body whose witness lies outside the solid's box: either a pair the
+  // solid left (past a sheet's border) or the foot of a turned solid's deepest point on its
+  // entry side; the certified solve says which at each such step (tests
+  // ProbeScenes.ABoxLeavingPastASheetsBorderIsApart,
+  // SheetDepth.ATurnedEllipsoidThroughAPlaneKeepsItsEntrySideOnceItsFootLeavesItsBox).
+  bool witness_out = false;
+  if (against_sheet && !point && deepest != nullptr) {
+    const Bbox_3& box = c.model(solid_a ? 0 : 1).box();
+    const Vec3& w = solid_a ? deepest->result.point_b : deepest->result.point_a;
+    const Vec3 x = (solid_a ? X_WA : X_WB).inverse().apply_point(w);
+    const double margin = tol + k_box_margin * box_diagonal(box);
+    for (int k = 0; k < 3; ++k)
+      if (x[k] < box.min(k) - margin || x[k] > box.max(k) + margin) witness_out = true;
+  }
+  // (The normal form holds for the step that reached a depth in one stride: fast motion.)
   if ((!solid_a && !solid_b) || deepest == nullptr || deepest->closed_form ||
-      (deepest->result.normal_form && -best <= 0.1 * size && !force)) {
+      (deepest->result.normal_form && -best <= k_deep_band * size && !force && !witness_out)) {
     m_checked = HUGE_VAL;
     return false;
   }
-  const double step = 1e-2 * size;
-  // Against a sheet, growth counts from the shallowest depth since the last check: where a
-  // shallower pair has taken over, the deeper one's level would hold the check back until the
-  // new pair grew past it (a screw through a plane, its shallower tip pair taking over at -11.7
-  // under the checked -22.8, read -16 to -20 once out below, 0.7 to 4.3 apart). Two solids have
-  // the motion check below for that.
-  if (against_sheet && std::isfinite(m_checked))
-    m_checked = std::max(m_checked, best);
-  // A point inside a body is also checked as it moves: its depth is its distance from the
-  // surface, whose nearest face changes without the tracked one growing deeper (a point rising
-  // in a cylinder nears the top cap); that check is one point query. Two solids likewise, once
-  // B's box centre has moved a tenth of the smaller body's size relative to A (a solve and a
-  // hull depth each): a ball rising in a cylinder kept the side wall's pair, -2.5, as the cap
-  // came within 0.2, and read -1.5 'penetrating' once out of the top, apart by 0.5 (found by a
-  // helper's probe). The centre, not the boxes' bound: a shaft turning in place in a bore
-  // would be checked every few steps for nothing (67 times the time at 30 rad/s). A body
-  // turning about its centre is not rechecked (a stale pair there waits for the depth to grow).
-  // (How far the bodies moved since the last check, where that is read.)
-  const double moved_by = std::isfinite(m_checked)
-                              ? approach_bound(m_context.model_a->box(), m_context.model_b->box(), m_checked_at,
-                                               m_context.relative).closer
-                              : HUGE_VAL;
+  const double step = k_deep_growth * size;
+  // Against a sheet, growth counts from the shallowest depth since the last check (a shallower
+  // pair that took over must not wait to pass the deeper one's level: test
+  // ProbeScenes.AScrewPushedThroughAPlaneIsApartOnceOut).
+  if (against_sheet && std::isfinite(m_checked)) m_checked = std::max(m_checked, best);
+  // A point inside a body is checked again as it moves (its depth's nearest face changes
+  // without the depth growing); two solids once either box centre moved k_deep_motion_steps
+  // growth steps relative to the other (test Contact.ABallRisingInACylinderLeavesThroughItsCap;
+  // the centres, not the boxes' bound, so a shaft turning in its bore is not checked again).
+  const double moved_by =
+      std::isfinite(m_checked)
+          ? approach_bound(c.model_a->box(), c.model_b->box(), m_checked_at, c.relative).closer
+          : HUGE_VAL;
   bool moved = point && std::isfinite(m_checked) && moved_by > step;
   if (!point && !against_sheet && std::isfinite(m_checked)) {
-    // Either body's centre, seen from the other, so that the order of the pair does not matter
-    // (a peg tumbling on a box: the box's centre moves five times as far in the peg's frame).
-    const Vec3 cb = box_centre(m_context.model_b->box()), ca = box_centre(m_context.model_a->box());
-    const double b_moved = (m_context.relative.apply_point(cb) - m_checked_at.apply_point(cb)).norm();
+    const Vec3 cb = box_centre(c.model_b->box()), ca = box_centre(c.model_a->box());
+    const double b_moved = (c.relative.apply_point(cb) - m_checked_at.apply_point(cb)).norm();
     const double a_moved =
-        (m_context.relative.inverse().apply_point(ca) - m_checked_at.inverse().apply_point(ca)).norm();
-    moved = std::max(a_moved, b_moved) > 10.0 * step;
+        (c.relative.inverse().apply_point(ca) - m_checked_at.inverse().apply_point(ca)).norm();
+    moved = std::max(a_moved, b_moved) > k_deep_motion_steps * step;
   }
-  // A solid against a sheet comes apart in one step with a jump of the local depth (a ball
-  // through a plane: its far pole's pair, -2r, to the gap): checked whenever the depth is as
-  // deep as the solid is wide along the pair's normal, so that its box lies past the sheet's
-  // witness, and the bodies moved by a thousandth of the size since the last check (a solid
-  // through a curved sheet can stay that deep while they overlap).
+  // A solid against a sheet comes apart in one step with a jump of the local depth: checked
+  // whenever the depth reaches the solid's width along the pair's normal, by its box once the
+  // bodies moved k_sheet_motion of the size, and by real support points (a lower bound on the
+  // width, so never late; a turned solid is narrower than its box) at each step that moved
+  // (test SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningKeepsItsEntrySideUntilOut).
   bool past_sheet = false;
-  if (against_sheet && moved_by > 1e-3 * size) {
-    const Bbox_3& box = solid_a ? m_context.model_a->box() : m_context.model_b->box();
+  if (against_sheet && moved_by > k_sheet_motion * size) {
+    const Bbox_3& box = c.model(solid_a ? 0 : 1).box();
     const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
     past_sheet = -best >= box_support(box, n) + box_support(box, -n);
   }
-  if (!(best < m_checked - step) && !moved && !past_sheet && !force) return false;
+  const bool moved_since = !std::isfinite(m_checked) ||
+                           c.relative.rotation() != m_checked_at.rotation() ||
+                           c.relative.translation() != m_checked_at.translation();
+  if (against_sheet && !point && !past_sheet && moved_since) {
+    const Distance_hierarchy& S = c.model(solid_a ? 0 : 1).hierarchy();
+    const Rigid_pose_3& X = solid_a ? X_WA : X_WB;
+    const Vec3& n = deepest->result.normal;
+    Support_request request;
+    request.tolerance = c.depth_tolerance(best);
+    request.max_nets = k_width_nets;
+    past_sheet = -best >= support_bound(S, X, n, request).lower +
+                              support_bound(S, X, -n, request).lower - c.depth_tolerance(best);
+  }
+  if (!(best < m_checked - step) && !moved && !past_sheet && !force && !witness_out) return false;
   m_checked = best;
-  m_checked_at = m_context.relative;
+  m_checked_at = c.relative;
   const Distance_result g = m_context.global_solve(X_WA, X_WB);
-  const Overlap_test overlap = overlap_of(g, m_context.model_a->hierarchy(), X_WA, m_context.kind.closed(0),
-                                          m_context.model_b->hierarchy(), X_WB, m_context.kind.closed(1));
+  const Overlap_test overlap = overlap_of(g, c.model_a->hierarchy(), X_WA, c.kind.closed(0),
+                                          c.model_b->hierarchy(), X_WB, c.kind.closed(1));
   // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
   // the ones just placed (not stepped yet).
   auto drop_inside = [&](double above) {
     for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
-      const Live& L = m_live[k];
-      if (L.alive && L.stepped != -1 && L.result.distance < -m_context.options.contact_tolerance &&
-          L.result.distance < above)
+      const Live& L = m_live[static_cast<int>(k)];
+      if (L.alive && L.stepped != -1 && is_inside(L.regime) && L.result.distance < above)
         m_live.kill(static_cast<int>(k));
     }
   };
@@ -373,15 +390,21 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     return true;
   }
   if (against_sheet) return false;
-  // Still overlapping. Where the hulls' depth is the bodies' (one inside the other, or both
-  // convex), trackers deeper than it go and its pair is tracked. Other bodies whose surfaces
-  // meet: the same where one of its witnesses lies inside the other body (the hulls' depth
-  // bounds the bodies' translation distance, so a deeper tracked pair is stale: two crossing
-  // rods past the middle); otherwise the local pairs stay (seed_overlap).
+  // Still overlapping: where the hulls' depth is the bodies' (one inside the other, both
+  // convex, or one of its witnesses inside the other body: the hulls' depth bounds the
+  // translation distance), trackers deeper than it go and its pair is tracked (seed_overlap).
   if (!seed_overlap(g, X_WA, X_WB, true, best, &overlap)) return false;
-  m_checked = m_context.solved.distance;
-  drop_inside(m_context.solved.distance - m_context.depth_tolerance(m_context.solved.distance));
+  const double d = m_context.solved.distance;
+  m_checked = d;
+  drop_inside(d - c.depth_tolerance(d));
   return true;
+}
+
+void Depth_monitor::note_report(const Pair_report& r, const Rigid_pose_3& X_WA) {
+  const Pair_context& c = m_context;
+  if (c.kind.closed_against_open() && r.distance >= -c.options.contact_tolerance &&
+      r.normal.norm() > 0.5)
+    m_sheet_side = X_WA.rotation().transpose() * r.normal;
 }
 
 }  // namespace extremal::internal

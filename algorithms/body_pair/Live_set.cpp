@@ -232,7 +232,7 @@ bool Live_set::transition(int k) {
         if (P.feature.collapsed_edges() & (1u << s)) continue;
         if (dir == 0 ? S.is_closed_u() : S.is_closed_v()) continue;
         const double outward = (s % 2 == 0) ? -g[dir] : g[dir];
-        if (outward > 1e-10 * scale[dir]) out_side = s;
+        if (outward > k_descent * scale[dir]) out_side = s;
       }
       int link_count = 0;
       M.edges_of(p, link_count);
@@ -254,7 +254,7 @@ bool Live_set::transition(int k) {
           surface_descent(M.primitives()[n].feature, X, mq, other, gn, sn);
           const int dir = ns / 2;
           const double inward = (ns % 2 == 0) ? gn[dir] : -gn[dir];
-          if (inward > 1e-10 * sn[dir]) {
+          if (inward > k_descent * sn[dir]) {
             np = n;
             nq[0] = mq[0];
             nq[1] = mq[1];
@@ -270,7 +270,7 @@ bool Live_set::transition(int k) {
         const Primitive& F = M.primitives()[use.face];
         double uv[2], uv1[2], uv0[2];
         use.map(t, uv);
-        const double h = 1e-6 * (P.feature.upper(0) - P.feature.lower(0));
+        const double h = k_edge_difference * (P.feature.upper(0) - P.feature.lower(0));
         use.map(t + h, uv1);
         use.map(t - h, uv0);
         // The edge's normal in the face's parameter plane, oriented into the face.
@@ -281,8 +281,8 @@ bool Live_set::transition(int k) {
         nrm[1] /= len;
         const Nurbs_surface_3& S = *F.feature.surface();
         const double band = F.trim ? F.trim->tolerance()
-                                   : 1e-6 * std::max(S.u_max() - S.u_min(), S.v_max() - S.v_min());
-        const double eps = 4.0 * band;
+                                   : k_untrimmed_band * std::max(S.u_max() - S.u_min(), S.v_max() - S.v_min());
+        const double eps = k_side_probe_bands * band;
         auto inside = [&](double s) {
           const double x[2] = {uv[0] + s * eps * nrm[0], uv[1] + s * eps * nrm[1]};
           return x[0] >= S.u_min() && x[0] <= S.u_max() && x[1] >= S.v_min() && x[1] <= S.v_max() &&
@@ -304,7 +304,7 @@ bool Live_set::transition(int k) {
         const double from_face = (X.apply_point(fp.p) - other).norm();
         const double slack = std::max(m_context.options.seeding.absolute_tolerance,
                                       m_context.options.seeding.relative_tolerance * r.distance);
-        if (inward > 1e-10 * std::max(scale[0], scale[1]) && from_face <= r.distance + slack) {
+        if (inward > k_descent * std::max(scale[0], scale[1]) && from_face <= r.distance + slack) {
           np = use.face;
           nq[0] = cq[0];
           nq[1] = cq[1];
@@ -318,7 +318,7 @@ bool Live_set::transition(int k) {
       const Feature& f = M.primitives()[np].feature;
       for (int k = 0; k < f.dimension(); ++k) {
         if (f.is_closed(k)) continue;
-        const double margin = 1e-9 * (f.upper(k) - f.lower(k));
+        const double margin = k_handover_inset * (f.upper(k) - f.lower(k));
         nq[k] = std::clamp(nq[k], f.lower(k) + margin, f.upper(k) - margin);
       }
     }
@@ -348,7 +348,7 @@ bool Live_set::transition(int k) {
 }
 
 void Live_set::merge_duplicates() {
-  const double tol = 1e-7 * std::max(box_diagonal(m_context.model_a->box()), box_diagonal(m_context.model_b->box()));
+  const double tol = k_merge_distance * m_context.length();
   // Only trackers of one primitive pair can merge: compared within runs of equal keys, in slot
   // order (index_live sorts by key, then slot).
   index();

@@ -28,7 +28,6 @@ enum class Reading_rule : unsigned char {
   Depth_normals_not_opposed,         // a depth whose outward normals do not oppose
   Apart_witness_inside,              // apart, but A's witness lies inside B
   Deeper_than_boxes,                 // deeper than the two solids' boxes overlap
-  Open_witness_outside_solid_box,    // a depth into a solid from outside its box
   Edge_outside_wedge,                // an edge's depth direction outside its normals' wedge
   Depth_not_reached_through_contact, // a depth the tracker never came to through contact
 };

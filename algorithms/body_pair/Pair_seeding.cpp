@@ -13,7 +13,7 @@ namespace {
 // Sampled closest pair of two features, polished by Newton at rest (pairs the global solver
 // has no element for: mesh edges).
 Vec4 sampled_seed(const Feature& A, const Rigid_pose_3& X_WA, const Feature& B,
-                  const Rigid_pose_3& X_WB, int n = 8) {
+                  const Rigid_pose_3& X_WB, int n = k_sampled_seed_grid) {
   auto sample = [n](const Feature& f, int i, int j, double* q) {
     for (int k = 0; k < f.dimension(); ++k) {
       const int idx = k == 0 ? i : j;
@@ -67,7 +67,7 @@ void Pair_seeding::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
   // among ties.
   Vec4 inner = params;
   double d1 = std::numeric_limits<double>::infinity(), c1 = d1;
-  constexpr int n = 4;
+  constexpr int n = k_central_seed_grid;
   for (int side = 0; side < 2; ++side) {
     const Feature& F = side == 0 ? A : B;
     const Feature& G = side == 0 ? B : A;
@@ -88,11 +88,11 @@ void Pair_seeding::prefer_central(int pa, int pb, const Rigid_pose_3& X_WA,
         build_pair_system({&A, &X_WA, nullptr}, {&B, &X_WB, nullptr}, cand, s, false);
         const double d = s.distance;
         const double c = off_centre(A, cand.data()) + off_centre(B, cand.data() + 2);
-        const bool tie = std::abs(d - d1) <= 1e-12 * (1.0 + d1);
+        const bool tie = std::abs(d - d1) <= k_distance_tie * (1.0 + d1);
         if ((!tie && d < d1) || (tie && c < c1)) d1 = d, c1 = c, inner = cand;
       }
   }
-  if (d1 <= d0 + 1e-12 * (1.0 + d0) &&
+  if (d1 <= d0 + k_distance_tie * (1.0 + d0) &&
       c1 < off_centre(A, params.data()) + off_centre(B, params.data() + 2))
     params = inner;
 }

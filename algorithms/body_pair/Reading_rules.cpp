@@ -96,7 +96,7 @@ bool outside_edge_wedge(const Tracking_model& M, int e, const Rigid_pose_3& X, d
   }
   const double c = n[0].dot(n[1]), det = 1.0 - c * c;
   const double len = v.norm();
-  if (!(det > 1e-6) || !(len > 0.0)) return false;  // a smooth join: one normal
+  if (!(det > k_smooth_join) || !(len > 0.0)) return false;  // a smooth join: one normal
   // v's coordinates along the two normals (least squares in their plane).
   const double a = v.dot(n[0]) / len, b = v.dot(n[1]) / len;
   const double alpha = (a - c * b) / det, beta = (b - c * a) / det;
@@ -139,7 +139,7 @@ bool edge_crosses_surface(const Primitive& A, const Rigid_pose_3& XA, const Prim
   // A trim's tangent is its flattened polyline's chord, a degree or two off the curve (as1's
   // bolt shank in the plate's hole, its rim's chord 1.1 degrees off): a crossing is read there
   // only past a tenth.
-  const double limit = chord[e] ? 0.1 : k_wandering_error;
+  const double limit = chord[e] ? k_trim_chord_crossing : k_wandering_error;
   return std::abs(tangent[e].dot(n)) > limit * tangent[e].norm() * n.norm();
 }
 
@@ -253,21 +253,6 @@ bool deeper_than_boxes(const Reading& r) {
          r.slot.result.distance < -r.context.boxes_bound();
 }
 
-// A depth between a solid and an open body puts the open body's witness inside the solid, so
-// inside the solid's box.
-bool open_witness_outside_solid_box(const Reading& r) {
-  const Pair_context& c = r.context;
-  if (!inside(r) || !c.kind.closed_against_open()) return false;
-  const bool solid_a = c.kind.closed(0);
-  const Bbox_3& box = c.model(solid_a ? 0 : 1).box();
-  const Track_result& t = r.slot.result;
-  const Vec3 x = (solid_a ? *c.X_WA : *c.X_WB).inverse().apply_point(solid_a ? t.point_b : t.point_a);
-  const double margin = contact_tolerance(r) + k_box_margin * box_diagonal(box);
-  for (int k = 0; k < 3; ++k)
-    if (x[k] < box.min(k) - margin || x[k] > box.max(k) + margin) return true;
-  return false;
-}
-
 // A B-rep edge of a solid against the other solid's face, inside: minus the face's normal lies
 // in the wedge of the edge's two faces' outward normals.
 bool edge_outside_wedge(const Reading& r) {
@@ -293,7 +278,7 @@ bool depth_not_reached_through_contact(const Reading& r) {
 
 }  // namespace
 
-const std::array<Rule_entry, 10> k_reading_rules = {{
+const std::array<Rule_entry, 9> k_reading_rules = {{
     {Reading_rule::Witness_off_face, witness_off_face},
     {Reading_rule::Normal_form_unsolved, normal_form_unsolved},
     {Reading_rule::Wandering_inside, wandering_inside},
@@ -301,7 +286,6 @@ const std::array<Rule_entry, 10> k_reading_rules = {{
     {Reading_rule::Depth_normals_not_opposed, depth_normals_not_opposed},
     {Reading_rule::Apart_witness_inside, apart_witness_inside},
     {Reading_rule::Deeper_than_boxes, deeper_than_boxes},
-    {Reading_rule::Open_witness_outside_solid_box, open_witness_outside_solid_box},
     {Reading_rule::Edge_outside_wedge, edge_outside_wedge},
     {Reading_rule::Depth_not_reached_through_contact, depth_not_reached_through_contact},
 }};
@@ -309,7 +293,7 @@ const std::array<Rule_entry, 10> k_reading_rules = {{
 namespace {
 // The rules that run before the reading's passage through contact is recorded, and the last.
 constexpr std::size_t k_before_contact_rules = 2;
-constexpr std::size_t k_last_rule = 9;
+constexpr std::size_t k_last_rule = 8;
 }  // namespace
 
 void judge(Live& L, bool first, Pair_context& context) {

@@ -179,6 +179,17 @@ struct Signed_distance_result {
                                                           const Rigid_pose_3& X_WB,
                                                           const Signed_distance_request& request = {});
 
+// The depth along one direction: s(n) = -overlap(n) = -(h_A(n) + h_B(-n)) for the unit world
+// n (from A to B; normalised here), at most the hulls' depth (hull_signed_distance), equal to
+// it where n minimises overlap. Bounds from the two support searches (lower_bound <= s(n) <=
+// upper_bound, within the request's tolerance, status Penetrating; Budget_exhausted when a
+// search ran out), witnesses as hull_signed_distance gives them (a flat support face's across
+// from the other witness). The depth of the side a solid entered an open sheet by: n the
+// sheet's normal on that side (Body_pair_tracker::seed_overlap, bench/verify_report).
+[[nodiscard]] Signed_distance_result directional_signed_distance(
+    const Distance_hierarchy& HA, const Rigid_pose_3& X_WA, const Distance_hierarchy& HB,
+    const Rigid_pose_3& X_WB, const Vec3& n_W, const Signed_distance_request& request = {});
+
 // Whether two bodies overlap, given the certified apart query `apart` between them: their
 // surfaces meet, or (surfaces apart) a sample point of one lies inside the other, closed, body
 // by its winding number (see "Containment" above). `unknown`: some winding number was not

@@ -15,8 +15,14 @@ class Depth_monitor {
   Depth_monitor(Pair_context& context, Live_set& live, Pair_seeding& seeding)
       : m_context(context), m_live(live), m_seeding(seeding) {}
 
-  // Forgets the last check (the tracker starts again).
-  void reset() { m_checked = HUGE_VAL; }
+  // Forgets the last check and the side entered by (the tracker starts again).
+  void reset() {
+    m_checked = HUGE_VAL;
+    m_sheet_side = Vec3::Zero();
+  }
+  // After each step's report: a solid against an open body keeps the side it is on while they
+  // are apart or in contact (the report's normal, in A's frame), the side it enters by.
+  void note_report(const Pair_report& r, const Rigid_pose_3& X_WA);
   // After the trackers stepped, with the tracked minimum `best`: whether a penetration pair
   // has just become shallower than `best` by more than the depth tolerance (held, or held but
   // for not having come through contact: it may be the depth now); once per crossing.
@@ -57,6 +63,9 @@ class Depth_monitor {
   Pair_seeding& m_seeding;
   double m_checked = HUGE_VAL;  // the tracked minimum at the last check
   Rigid_pose_3 m_checked_at;    // and X_AB there
+  // A solid against an open body: the normal of the last report that read them apart or in
+  // contact, in A's frame (zero: none since the start).
+  Vec3 m_sheet_side = Vec3::Zero();
 };
 
 }  // namespace extremal::internal

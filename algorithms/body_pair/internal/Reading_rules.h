@@ -26,7 +26,7 @@ struct Rule_entry {
 // In the order applied. The first two run before the reading's passage through contact is
 // recorded (they decide it); the last runs after all others, so that a reading it alone
 // rejects is known (Live::holds_unreached).
-extern const std::array<Rule_entry, 10> k_reading_rules;
+extern const std::array<Rule_entry, 9> k_reading_rules;
 
 // Judges slot L's reading, just stepped (`first`: its first step): sets L.valid, L.rejected_by
 // and the flags it keeps (through_contact, behind_sheet, holds_unreached).

@@ -36,8 +36,9 @@ constexpr double k_normals_opposed = 1e-6;
 // An edge's two faces join smoothly (one normal, no wedge) where 1 - cos^2 of their normals'
 // angle is below this. Set by EdgeSlide.APegSlidOntoABoxsTopFromItsSideReadsTheShallowerDepth.
 constexpr double k_smooth_join = 1e-6;
-// An open body's witness counts as inside a solid's box within this fraction of the box's
-// diagonal (plus the contact tolerance). Set by ProbeScenes.ABoxLeavingPastASheetsBorderIsApart.
+// An open body's witness counts as inside a solid's box (Depth_monitor's trigger) within this
+// fraction of the box's diagonal (plus the contact tolerance). Set by
+// ProbeScenes.ABoxLeavingPastASheetsBorderIsApart.
 constexpr double k_box_margin = 1e-9;
 
 // ---- Hand-overs and merges (Live_set) ----------------------------------------------------
@@ -157,5 +158,9 @@ constexpr double k_deep_motion_steps = 10.0;
 // bodies moved this fraction of the size since the last check. Set by
 // Contact.ABallThroughAnOpenPlaneIsApartOnceOut.
 constexpr double k_sheet_motion = 1e-3;
+// Sub-nets of each support query bounding a solid's width against a sheet: its lower bound is
+// a real point's, so a small budget can only make the check early. Set by
+// SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningKeepsItsEntrySideUntilOut.
+constexpr int k_width_nets = 200;
 
 }  // namespace extremal::internal

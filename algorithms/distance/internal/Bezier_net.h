@@ -313,4 +313,18 @@ inline bool cholesky_succeeds(const double M[4][4], int n) {
   return true;
 }
 
+// Parameters of corner k (0..3) of a sub-net over [lo, hi]: bit 0 the first, bit 1 the second.
+inline void corner_params(const double* lo, const double* hi, int k, double* q) {
+  q[0] = (k & 1) ? hi[0] : lo[0];
+  q[1] = (k & 2) ? hi[1] : lo[1];
+}
+
+// Pole index of corner k of a nu x nv net (pole (i, j) at i * nv + j, i along the first
+// parameter).
+inline int corner_pole(int nu, int nv, int k) {
+  const int i = (k & 1) ? nu - 1 : 0;
+  const int j = (k & 2) ? nv - 1 : 0;
+  return i * nv + j;
+}
+
 }  // namespace extremal::internal
