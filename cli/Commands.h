@@ -1,4 +1,4 @@
-// The `extremal` subcommands. Each returns the process exit code (../shared/CLI.md: 0 success,
+// The `extremal` subcommands. Each returns the process exit code (docs/cli.md: 0 success,
 // 1 bad input, 2 usage error) and writes errors to stderr naming the file, path or argument.
 #pragma once
 

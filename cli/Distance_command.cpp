@@ -1,5 +1,5 @@
 // `extremal distance A B [--pose-a P] [--pose-b P] [--tolerance E] [--json] [--signed
-// [--max-cells N]]`: one-shot certified extremal distance (../shared/CLI.md); with --signed, the
+// [--max-cells N]]`: one-shot certified extremal distance (docs/cli.md); with --signed, the
 // signed distance (negative penetration depth while the bodies overlap, Penetration_depth.h). A and B are shape specs or files (read_model: STEP, IGES,
 // BREP, OBJ, meshes); a file that holds several bodies counts as the union of all its bodies (the
 // JSON `body_a` / `body_b` names the body the witness lies on), each body placed by its file
@@ -71,8 +71,8 @@ Rigid_pose_3 load_pose(const std::string& text, const char* option) {
 
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-// The keys CLI.md specifies for `extremal distance --json`, shared by the plain and the signed
-// result (same field names on both).
+// The keys docs/cli.md specifies for `extremal distance --json`, shared by the plain and the
+// signed result (same field names on both).
 template <class Result>
 nlohmann::json result_json(const Result& r, const nlohmann::json& name_a,
                            const nlohmann::json& name_b, double tolerance) {
@@ -206,7 +206,7 @@ int run_distance(const Distance_options& options) {
     if (options.signed_distance) return run_signed(options, set_a, set_b);
 
     Distance_request request;
-    request.absolute_tolerance = options.tolerance;  // CLI.md: d within the tolerance
+    request.absolute_tolerance = options.tolerance;  // docs/cli.md: d within the tolerance
     request.relative_tolerance = 0.0;
     Distance_workspace ws;
     // Files of several bodies (assemblies): nearest body pairs first, each cut off at the best

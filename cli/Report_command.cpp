@@ -1,5 +1,5 @@
 // `extremal report SCENE.json... [-o OUT.csv|OUT.json] [--plot OUT.svg] [--snapshot OUT.glb
-// --at T] [--threads N] [--quiet]`: batch distance reports over time (../shared/CLI.md).
+// --at T] [--threads N] [--quiet]`: batch distance reports over time (docs/cli.md).
 #include <unistd.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// The rows and summaries of `extremal report` (../shared/CLI.md): CSV rows, the JSON report
+// The rows and summaries of `extremal report` (docs/cli.md): CSV rows, the JSON report
 // (rows plus a summary per pair), and the readable summary for the terminal.
 #pragma once
 

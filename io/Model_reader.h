@@ -4,7 +4,7 @@
 //   STEP (AP203, AP214, AP242), IGES and OpenCASCADE .brep through OpenCASCADE's data exchange;
 //   OBJ with free-form geometry (cstype bspline / rat bspline / bezier, surf, curv, curv2, trim,
 //   hole) through our own reader; triangle meshes (STL, polygon OBJ, PLY, OFF, glTF/GLB and the
-//   rest assimp reads) through assimp. README-import.md lists the entities and what happens to
+//   rest assimp reads) through assimp. docs/import.md lists the entities and what happens to
 //   the rest.
 // No OpenCASCADE or assimp type appears here: readers live in io/internal/*.cpp.
 #pragma once

@@ -1,4 +1,4 @@
-// Scene files (../shared/CLI.md): units, time range, bodies with shapes or files, poses and
+// Scene files (docs/cli.md): units, time range, bodies with shapes or files, poses and
 // motions, watched pairs, threshold and tracker settings. Every error names the file, the JSON
 // path and the reason, e.g. "scene.json: bodies[1].motion.keyframes[1].t: times must increase";
 // unknown keys are errors, not ignored.

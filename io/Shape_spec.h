@@ -1,4 +1,4 @@
-// Command-line shape specs and poses (../shared/CLI.md): `point`, `sphere:r`,
+// Command-line shape specs and poses (docs/cli.md): `point`, `sphere:r`,
 // `ellipsoid:a,b,c`, `torus:R,r`, `cylinder:r,h`, `plane:w,h`; poses `x,y,z` or
 // `x,y,z,qw,qx,qy,qz`.
 #pragma once

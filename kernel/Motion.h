@@ -1,4 +1,4 @@
-// Rigid motions over time (../shared/CLI.md scene motions): static, constant twist, keyframes
+// Rigid motions over time (docs/cli.md scene motions): static, constant twist, keyframes
 // (linear position, shortest-arc slerp, constant velocities on each segment; at rest outside
 // the keyframes) and tables of poses (velocities by differences).
 #pragma once

@@ -1,5 +1,5 @@
 // Exact rational NURBS forms of the analytic shapes of the command-line shape specs
-// (../shared/CLI.md). Every surface's outward_sign is set so that outward_normal points out of
+// (docs/cli.md). Every surface's outward_sign is set so that outward_normal points out of
 // the solid. Parametrisations:
 //   sphere, ellipsoid: u = longitude in [0, 2 pi] (closed), v = latitude in [-pi/2, pi/2]
 //                      (poles at the v ends); biquadratic, 9 x 5 control points.

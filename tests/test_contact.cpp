@@ -1,6 +1,7 @@
 // Signed extremal distance through contact and penetration, patch edges and corners,
-// degenerate geometry (../shared/DESIGN.md section 2). Every case runs at 1 kHz over a motion
-// that passes through contact, and is checked against an exact answer at every step.
+// degenerate geometry (docs/design.md, "Where the seed's form breaks"). Every case runs at 1 kHz
+// over a motion that passes through contact, and is checked against an exact answer at every
+// step.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -533,7 +534,7 @@ TEST(Contact, SurfaceAgainstItsOwnCopy) {
 // Bodies that overlap when the tracker starts (an assembly with interference, a part placed
 // inside another) report their depth from the first step, not a common point of the
 // surfaces or nothing at all: the first step seeds the penetration pair of their hulls
-// (../shared/DESIGN.md: negative inside), which is then tracked like one reached through
+// (docs/design.md: negative inside), which is then tracked like one reached through
 // contact. Before, the first rows were 0 with no witness, deep overlaps wandered between
 // -0.75 and +0.47 for two unit balls 0.5 deep, and one ball inside another reported 0 at
 // every step (solving the pair again each time).

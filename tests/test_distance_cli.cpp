@@ -1,4 +1,4 @@
-// `extremal distance` end to end: the JSON contract of ../shared/CLI.md against the certified
+// `extremal distance` end to end: the JSON contract of docs/cli.md against the certified
 // ellipsoid reference, intersections as exactly zero, and exit codes for bad input and usage.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

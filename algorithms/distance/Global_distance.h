@@ -1,5 +1,5 @@
 // Certified global extremal distance between two posed bodies (branch and bound over Bezier
-// sub-patches, ../shared/DESIGN.md section 3).
+// sub-patches, docs/design.md, "The certified solvers").
 //
 // The distance is the minimum distance between the bodies' geometry (faces, curves, a point body's
 // origin), with a certificate: lower_bound <= true minimum <= upper_bound, where upper_bound is the

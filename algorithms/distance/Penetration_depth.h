@@ -1,6 +1,6 @@
 // Signed extremal distance between two posed bodies with a certificate: the certified distance
 // while they are apart, and a certified penetration depth while they overlap
-// (../shared/DESIGN.md: positive apart, 0 at contact, negative inside).
+// (docs/design.md: positive apart, 0 at contact, negative inside).
 //
 // Definition.
 //   - Bodies whose surfaces do not meet and neither of which lies inside the other: s is the

@@ -1,5 +1,5 @@
 // Tracks the extremal pair between two moving features (the seed's feedback-linearising
-// controller, ../shared/DESIGN.md sections 1 and 2): U = M^-1 (-K Phi - b), parameters
+// controller, docs/design.md, "The seed's method"): U = M^-1 (-K Phi - b), parameters
 // integrated from U, the conditions recomputed from the geometry at every step (the seed's
 // Figure 4 variant). Near contact the normal form of the conditions takes over so the pair
 // passes through contact into penetration; on patch edges the pair continues as the reduced

@@ -1,5 +1,5 @@
 // The extremal-pair conditions between two posed features and their derivatives
-// (../shared/DESIGN.md section 1). With d = f - h (f on A, h on B, world frame):
+// (docs/design.md, "The pair system"). With d = f - h (f on A, h on B, world frame):
 //   Phi = [d.f_i (i over A's parameters), d.h_j (j over B's parameters)]
 //   dPhi/dt = M U + b, U the parameter velocities, b the motion term at fixed parameters.
 // Vectors and matrices are padded to size 4: unused entries of Phi and b are zero and the
@@ -20,7 +20,7 @@ using Mat4 = Eigen::Matrix4d;
 // in their Jacobian. The projection form (the seed's) loses rank at tangential contact (d = 0);
 // the normal form replaces the rows of the side opposite a reference surface R by
 // n_R . t_j (normals parallel), whose Jacobian stays regular through contact
-// (../shared/DESIGN.md section 2).
+// (docs/design.md, "Where the seed's form breaks").
 enum class Formulation { Projection, Normal_of_a, Normal_of_b };
 
 struct Pair_system {
