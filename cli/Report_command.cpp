@@ -8,13 +8,13 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <set>
 #include <sstream>
 #include <string>
 
 #include "cli/Commands.h"
 #include "cli/Progress_bar.h"
 #include "cli/Report_plot.h"
+#include "cli/Report_rows.h"
 #include "cli/Report_writer.h"
 #include "cli/Scene_run.h"
 #include "io/Model_reader.h"
@@ -37,28 +37,6 @@ std::string short_number(double x) {
   std::ostringstream os;
   os << x;
   return os.str();
-}
-
-// The output names of a batch: OUT.ext with one scene; with several, OUT.<tag>.ext per scene,
-// the tag being the scene file's stem, or <k>-<stem> (k = 1, 2, ... the scene's position) for
-// every scene when two scenes share a stem.
-std::vector<std::string> scene_tags(const std::vector<std::string>& scenes) {
-  std::vector<std::string> tags;
-  std::set<std::string> seen;
-  bool clash = false;
-  for (const auto& s : scenes) {
-    tags.push_back(std::filesystem::path(s).stem().string());
-    clash = clash || !seen.insert(tags.back()).second;
-  }
-  if (clash)
-    for (std::size_t i = 0; i < tags.size(); ++i) tags[i] = std::to_string(i + 1) + "-" + tags[i];
-  return tags;
-}
-
-std::string batch_path(const std::string& path, const std::string& tag, bool batch) {
-  if (path.empty() || !batch) return path;
-  const std::filesystem::path p(path);
-  return (p.parent_path() / (p.stem().string() + "." + tag + p.extension().string())).string();
 }
 
 struct Scene_outputs {
@@ -110,10 +88,9 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
                             batch && out.report.empty() ? scene.path : std::string());
 
   const std::size_t n_pairs = scene.pairs.size();
-  std::vector<io::Pair_summary_builder> summaries(n_pairs);
+  Report_rows rows(scene, *writer);
   std::vector<Pair_series> series(out.plot.empty() ? 0 : n_pairs,
                                   Pair_series(scene.step_count()));
-  std::vector<bool> was_farther(n_pairs, false);
   const int snap_step = out.snapshot.empty() ? -1 : snapshot_step(scene, options.snapshot_time);
   std::vector<Pair_report> snap_reports;
   const int steps = scene.step_count();
@@ -123,29 +100,17 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
                         std::filesystem::path(scene.path).filename().string(), steps);
 
   run.run([&](int step, double t, const std::vector<Pair_report>& reports) {
-    for (std::size_t k = 0; k < n_pairs; ++k) {
-      const Pair_report& r = reports[k];
-      const io::Clearance_state state = clearance_state(r.status);
-      const bool farther = state == io::Clearance_state::Farther;
-      summaries[k].add(t, r.distance, state);
-      if (!series.empty()) {
-        series[k].add(t, farther ? std::nan("") : r.distance);
-      }
-      // A pair beyond the threshold is reported once when it goes there, not at every step.
-      if (!(farther && was_farther[k])) {
-        const auto& [a, b] = scene.pairs[k];
-        writer->row(t, scene.bodies[a].name, scene.bodies[b].name, r);
-      }
-      was_farther[k] = farther;
+    rows.add(t, reports);
+    for (std::size_t k = 0; k < series.size(); ++k) {
+      const bool farther = clearance_state(reports[k].status) == io::Clearance_state::Farther;
+      series[k].add(t, farther ? std::nan("") : reports[k].distance);
     }
     if (step == snap_step) snap_reports = reports;
     progress.update(step + 1);
   });
   progress.finish();
 
-  std::vector<io::Pair_summary> result;
-  for (const auto& s : summaries) result.push_back(s.summary());
-  writer->finish(result);
+  const std::vector<io::Pair_summary> result = rows.finish();
   if (file && !*file) throw Invalid_input(out.report + ": write failed");
   for (auto& s : series) s.finish();
   if (!out.plot.empty()) report_plot(scene, series, result).write(out.plot);

@@ -1,0 +1,55 @@
+#include "cli/Report_rows.h"
+
+#include <filesystem>
+#include <set>
+
+namespace extremal::cli {
+
+std::vector<std::string> scene_tags(const std::vector<std::string>& scenes) {
+  std::vector<std::string> tags;
+  std::set<std::string> seen;
+  bool clash = false;
+  for (const auto& s : scenes) {
+    tags.push_back(std::filesystem::path(s).stem().string());
+    clash = clash || !seen.insert(tags.back()).second;
+  }
+  if (clash)
+    for (std::size_t i = 0; i < tags.size(); ++i) tags[i] = std::to_string(i + 1) + "-" + tags[i];
+  return tags;
+}
+
+std::string batch_path(const std::string& path, const std::string& tag, bool batch) {
+  if (path.empty() || !batch) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "." + tag + p.extension().string())).string();
+}
+
+Report_rows::Report_rows(const io::Scene& scene, Report_writer& writer)
+    : m_scene(scene),
+      m_writer(writer),
+      m_summaries(scene.pairs.size()),
+      m_was_farther(scene.pairs.size(), false) {}
+
+void Report_rows::add(double t, const std::vector<Pair_report>& reports) {
+  for (std::size_t k = 0; k < m_summaries.size(); ++k) {
+    const Pair_report& r = reports[k];
+    const io::Clearance_state state = clearance_state(r.status);
+    const bool farther = state == io::Clearance_state::Farther;
+    m_summaries[k].add(t, r.distance, state);
+    if (!(farther && m_was_farther[k])) {
+      const auto& [a, b] = m_scene.pairs[k];
+      m_writer.row(t, m_scene.bodies[a].name, m_scene.bodies[b].name, r);
+    }
+    m_was_farther[k] = farther;
+  }
+}
+
+std::vector<io::Pair_summary> Report_rows::finish() {
+  std::vector<io::Pair_summary> result;
+  result.reserve(m_summaries.size());
+  for (const auto& s : m_summaries) result.push_back(s.summary());
+  m_writer.finish(result);
+  return result;
+}
+
+}  // namespace extremal::cli
