@@ -13,6 +13,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libtbb-dev
   libfcl-dev
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest
+  python3-dask python3-distributed
 )
 # --fuzz: also clang and its libFuzzer runtime (scripts/run-fuzzers.sh; Debian's clang only
 # recommends the runtime package, and recommendations are not installed).

@@ -3,7 +3,8 @@
 Bodies come from CAD and mesh files (read_model) or shapes (sphere, ellipsoid, torus, cylinder,
 plane, point). distance() is the certified one-shot distance of `extremal distance`; Tracker
 and SceneTracker keep the extremal pair up to date while Python moves the bodies; report() runs
-a scene file as `extremal report` does.
+a scene file as `extremal report` does. extremal.batch runs a batch of scenes on a Dask cluster
+(it is the only part that imports Dask).
 
 Points are NumPy arrays in world coordinates; a pose is (x, y, z, qw, qx, qy, qz), the body
 frame's placement in the world (unit quaternion, w first), or (x, y, z); a twist is (vx, vy, vz,

@@ -23,11 +23,11 @@ def test_the_installed_module_imports_and_measures(tmp_path):
     assert p.returncode == 0, p.stderr
     package = prefix / site / "extremal"
     names = sorted(f.name for f in package.iterdir())
-    assert len(names) == 2 and names[0] == "__init__.py"
+    assert len(names) == 3 and names[0] == "__init__.py" and names[2] == "batch.py"
     assert names[1].startswith("_core.cpython-") and names[1].endswith(".so")
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     env["PYTHONPATH"] = str(prefix / site)
-    script = ("import extremal\n"
+    script = ("import extremal, extremal.batch\n"
               "print(extremal.__file__)\n"
               "r = extremal.distance(extremal.sphere(1), extremal.sphere(2), pose_b=(5, 0, 0))\n"
               "print(r.distance)\n")
