@@ -1,6 +1,7 @@
-// Every tuning number of the body-pair tracker, named once: what it bounds, and the test or
-// bench scene that set it (bench/RESULTS.md has the measurements; the history of each is in
-// git). Lengths are fractions of the stated size; errors are normalised (sines of angles).
+// Every tuning number of the body-pair tracker, named once: what it bounds, and the bench scene
+// whose measurement set it ("Set by", bench/RESULTS.md and git history) or the test that exercises
+// it ("Shown by"). Lengths are fractions of the stated size; errors are
+// normalised (sines of angles).
 // The options a user sets are in Body_pair_options.h. Not API.
 #pragma once
 
@@ -9,79 +10,79 @@ namespace extremal::internal {
 // ---- Readings (Reading_rules, Live_set) --------------------------------------------------
 // Normalised projection errors within this along the free parameters: converged on its pair,
 // about d e^2 / 2 above its minimum, far below the seeding tolerance (a tracked pair carries a
-// crease only then). Set by BodyScenes.CreaseTieStillCatchesTheNeighboursDeeperBump.
+// crease only then). Shown by BodyScenes.CreaseTieStillCatchesTheNeighboursDeeperBump.
 constexpr double k_converged_error = 1e-6;
 // Beyond this, inside the bodies, a flow is wandering outside the basin of any penetration
 // pair (a lagging tracker stays orders of magnitude below); also the margin of the normal
-// form's conditions and of the normals' tests. Set by
+// form's conditions and of the normals' tests. Shown by
 // Contact.BodiesThatStartOverlappingReportTheirDepthFromTheFirstStep.
 constexpr double k_wandering_error = 1e-2;
 // A trim boundary's tangent is its flattened polyline's chord, a degree or two off the curve:
-// a crossing is read at a trim edge only past this cosine. Set by
+// a crossing is read at a trim edge only past this cosine. Shown by
 // RimContact.PartsSeatedFlushInAnAssemblyTouchWithoutInterference (as1's bolt shank: 1.1 deg).
 constexpr double k_trim_chord_crossing = 0.1;
 // An outward normal is defined where its length exceeds this fraction of its factors' (a pole's
-// limit below it is no direction). Set by Contact.ABallRisingInACylinderLeavesThroughItsCap.
+// limit below it is no direction). Shown by Contact.ABallRisingInACylinderLeavesThroughItsCap.
 constexpr double k_normal_defined = 1e-8;
 // Readings up to this many contact tolerances apart count as near contact for the normals'
-// test between two solids' faces. Set by Contact.ABallTouchingACylindersCapFromWithinReadsItsDepth.
+// test between two solids' faces. Shown by Contact.ABallTouchingACylindersCapFromWithinReadsItsDepth.
 constexpr double k_near_contact = 1e3;
-// Two outward normals are alike past this cosine (60 degrees). Set by
+// Two outward normals are alike past this cosine (60 degrees). Shown by
 // Contact.ABallTouchingACylindersCapFromWithinReadsItsDepth.
 constexpr double k_normals_alike = 0.5;
 // Normals perpendicular are no sign of a depth or a distance: opposed unless past this cosine.
-// Set by BodyScenes.ABallShotIntoABoxReportsItsDepth and
+// Shown by BodyScenes.ABallShotIntoABoxReportsItsDepth and
 // BodyScenes.ABallInsideANonConvexPartIsNeverApart.
 constexpr double k_normals_opposed = 1e-6;
 // An edge's two faces join smoothly (one normal, no wedge) where 1 - cos^2 of their normals'
-// angle is below this. Set by EdgeSlide.APegSlidOntoABoxsTopFromItsSideReadsTheShallowerDepth.
+// angle is below this. Shown by EdgeSlide.APegSlidOntoABoxsTopFromItsSideReadsTheShallowerDepth.
 constexpr double k_smooth_join = 1e-6;
 // An open body's witness counts as inside a solid's box (Depth_monitor's trigger) within this
-// fraction of the box's diagonal (plus the contact tolerance). Set by
+// fraction of the box's diagonal (plus the contact tolerance). Shown by
 // ProbeScenes.ABoxLeavingPastASheetsBorderIsApart.
 constexpr double k_box_margin = 1e-9;
 
 // ---- Hand-overs and merges (Live_set) ----------------------------------------------------
 // A descent leaves a patch side (or enters a neighbour) past this fraction of its scale.
-// Set by BodyScenes.AFacePointLeavingAtACornerGoesToTheEdgeItSlidesOn.
+// Shown by BodyScenes.AFacePointLeavingAtACornerGoesToTheEdgeItSlidesOn.
 constexpr double k_descent = 1e-10;
 // An edge's direction in a face's parameter plane by central differences of this fraction of
 // the edge's domain; an untrimmed face's edge band, this fraction of its larger domain side;
-// the face's side is probed this many bands off the edge. Set by
+// the face's side is probed this many bands off the edge. Shown by
 // Contact.PointSlidesOffAnEdgeRoundACornerAndBack.
 constexpr double k_edge_difference = 1e-6;
 constexpr double k_untrimmed_band = 1e-6;
 constexpr double k_side_probe_bands = 4.0;
 // A handed-over point starts this fraction of its domain inside it (a parameter held on a
-// patch edge is left out of the corrections). Set by
+// patch edge is left out of the corrections). Shown by
 // BodyScenes.AFacePointLeavingAtACornerGoesToTheEdgeItSlidesOn.
 constexpr double k_handover_inset = 1e-9;
 // Trackers of one primitive pair whose witnesses are within this fraction of the larger body's
-// diagonal are one. Set by BodyScenes.MultiPatchTorusWithASphereThroughItsHole.
+// diagonal are one. Shown by BodyScenes.MultiPatchTorusWithASphereThroughItsHole.
 constexpr double k_merge_distance = 1e-7;
 
 // ---- Seeding (Pair_seeding, Depth_monitor) -----------------------------------------------
 // Samples per parameter of a sampled seed (pairs the solver has no element for: mesh edges),
-// and of the interior points a seed on a patch side is moved towards. Set by
+// and of the interior points a seed on a patch side is moved towards. Shown by
 // BodyScenes.MeshAgainstNurbsAndMeshAgainstMesh and Contact.ParallelPlanesThroughContact.
 constexpr int k_sampled_seed_grid = 8;
 constexpr int k_central_seed_grid = 4;
 // Two distances tie within this fraction (of 1 + the distance) when a seed is moved to a more
-// central pair. Set by Contact.ParallelPlanesThroughContact.
+// central pair. Shown by Contact.ParallelPlanesThroughContact.
 constexpr double k_distance_tie = 1e-12;
 // A seed of a depth is matched to faces and pairs to this fraction of the largest of 1, the
 // depth and the bodies' diagonals (a depth whose budget ran out is a little off; this is a
 // seed), with normals aligned to within 1 - k_depth_seed_aligned, over a grid of this many
-// samples per parameter. Set by Contact.CrossingRodsReportTheDepthOnTheSidesTheyLeaveBy and
+// samples per parameter. Shown by Contact.CrossingRodsReportTheDepthOnTheSidesTheyLeaveBy and
 // bench/scenes/shaft_in_bore.json.
 constexpr double k_depth_seed_tolerance = 1e-4;
 constexpr double k_depth_seed_aligned = 1e-6;
 constexpr int k_depth_seed_grid = 8;
 // The hulls' witnesses face each other (they are the depth's pair) within this fraction of the
-// shift that parts them. Set by Contact.SphereThroughSphereExactSignedDistance.
+// shift that parts them. Shown by Contact.SphereThroughSphereExactSignedDistance.
 constexpr double k_facing_pair = 1e-2;
 // Relative tolerance of the coarse hull depth taken against a tracked depth, and of the solve
-// that finds the depth's pair once the hulls are moved apart. Set by
+// that finds the depth's pair once the hulls are moved apart. Shown by
 // RimContact.APegTumblingOnABoxReadsItsFarRimOnceItIsTheDeeper.
 constexpr double k_coarse_depth_tolerance = 1e-3;
 constexpr double k_depth_pair_tolerance = 1e-6;
@@ -94,7 +95,7 @@ constexpr double k_default_broad_margin = 0.02;
 // again only once the relative motion since has used that up. Set by bench compare (c).
 constexpr double k_broad_extra = 0.5;
 // Two relative poses are one within this (rotation entries; translations as a fraction of the
-// larger body's diagonal). Set by BodyScenes.SteadyTrackingAllocatesNothing.
+// larger body's diagonal). Shown by BodyScenes.SteadyTrackingAllocatesNothing.
 constexpr double k_same_pose = 1e-14;
 
 // ---- Certification of candidates (Kept_proof_certification) ------------------------------
@@ -102,14 +103,14 @@ constexpr double k_same_pose = 1e-14;
 // it, the pair is solved anew. Set by bench compare (c) at 1 kHz.
 constexpr int k_kept_solves = 8;
 // The least slack of a restricted solve's cutoff, and the least gap of the own-basin watch,
-// in seeding tolerances. Set by BodyScenes.AuditsOrTheWatchMoveATrackerToALowerBasinOfItsOwnPair.
+// in seeding tolerances. Shown by BodyScenes.AuditsOrTheWatchMoveATrackerToALowerBasinOfItsOwnPair.
 constexpr double k_seeding_slack = 4.0;
 // The watch's cutoffs stay this fraction of the gap below the tracked basin, so that its
-// solves settle it rather than converge on it. Set by BodyScenes.ARodMovedAcrossARingFollowsTheRingsNearSide.
+// solves settle it rather than converge on it. Shown by BodyScenes.ARodMovedAcrossARingFollowsTheRingsNearSide.
 constexpr double k_watch_ceiling = 0.5;
 // A pair's restricted solve is cut off at least this many steps' worth of the pair's relative
 // motion above the tracked minimum, so that its bound clears the next steps' checks without a
-// solve; the next solve of a pair that found nothing reaches this many times higher. Set by
+// solve; the next solve of a pair that found nothing reaches this many times higher. Shown by
 // BodyScenes.CarriedBoundsSkipMostRechecksAndStillCatchAnOvertakingBump and bench compare (c).
 constexpr double k_slack_steps = 8.0;
 constexpr double k_slack_growth = 4.0;
@@ -128,7 +129,7 @@ constexpr double k_proving_steps = 2.0;
 constexpr double k_crease_fraction = 0.125;
 constexpr int k_crease_nodes = 200;
 // A patch side is a crease shared with a tracked neighbour when its certified gap to the
-// neighbour's side is within this fraction of the seeding tolerance. Set by
+// neighbour's side is within this fraction of the seeding tolerance. Shown by
 // BodyScenes.CreaseTieStillCatchesTheNeighboursDeeperBump.
 constexpr double k_crease_gap = 0.25;
 // A partial solve restarts at most this many times the node budget's sub-patch pairs (more:
@@ -143,7 +144,7 @@ constexpr int k_compact_bounds = 4096;
 
 // ---- Depth monitor -------------------------------------------------------------------------
 // Within the normal form's band (depths up to this fraction of the smaller body) the tracked
-// pair is the one the bodies met at, and is not checked. Set by
+// pair is the one the bodies met at, and is not checked. Shown by
 // Contact.DeepPassagesReportTheDepthAndLeaveApart.
 constexpr double k_deep_band = 0.1;
 // The check runs again once the depth grew by this fraction of the smaller body since the
@@ -151,15 +152,15 @@ constexpr double k_deep_band = 0.1;
 // bench/scenes/ball_through_ball.json and Contact.DeepPassagesReportTheDepthAndLeaveApart.
 constexpr double k_deep_growth = 1e-2;
 // Two solids are checked again once either's box centre moved this many growth steps relative
-// to the other (a shaft turning in place is not). Set by Contact.ABallRisingInACylinderLeavesThroughItsCap
+// to the other (a shaft turning in place is not). Shown by Contact.ABallRisingInACylinderLeavesThroughItsCap
 // and bench/scenes/shaft_in_bore.json.
 constexpr double k_deep_motion_steps = 10.0;
 // A solid against a sheet, as deep as it is wide along the pair's normal, is checked once the
-// bodies moved this fraction of the size since the last check. Set by
+// bodies moved this fraction of the size since the last check. Shown by
 // Contact.ABallThroughAnOpenPlaneIsApartOnceOut.
 constexpr double k_sheet_motion = 1e-3;
 // Sub-nets of each support query bounding a solid's width against a sheet: its lower bound is
-// a real point's, so a small budget can only make the check early. Set by
+// a real point's, so a small budget can only make the check early. Shown by
 // SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningKeepsItsEntrySideUntilOut.
 constexpr int k_width_nets = 200;
 
