@@ -1,7 +1,7 @@
 // Every tuning number of the body-pair tracker, named once: what it bounds, and the bench scene
-// whose measurement set it ("Set by", bench/RESULTS.md and git history) or the test that exercises
-// it ("Shown by"). Lengths are fractions of the stated size; errors are
-// normalised (sines of angles).
+// whose measurement set it ("Set by", bench/RESULTS.md and git history) or the test that
+// exercises it ("Shown by"). Lengths are fractions of the stated size; errors are normalised
+// (sines of angles).
 // The options a user sets are in Body_pair_options.h. Not API.
 #pragma once
 
