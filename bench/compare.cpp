@@ -3,7 +3,9 @@
 // Scenarios (each a motion over a few seconds, the same frames for every method):
 //   (a) the seed's two moving ellipsoids (bench/experiments/Ellipsoid_experiment's set-up);
 //   (b) a non-convex part of 3 x 3 bicubic faces (an egg crate) under a moving ellipsoid;
-//   (c) two real STEP parts from ../shared/data in relative motion (io::load_bodies).
+//   (c) two real STEP parts from ../shared/data in relative motion (io::load_bodies);
+//   (e) meshes against FCL on the same meshes and poses (compare_meshes.cpp; --mesh FILE adds
+//       a large mesh, e.g. one written by `extremal tessellate`).
 // Methods, each timed per frame (median) and its error (maximum and median) measured against
 // the certified reference at the same frames:
 //   - our tracker: Extremal_tracker on single patches, Scene_stepper (Body_pair_tracker) on
@@ -21,7 +23,7 @@
 // with --out).
 //
 // Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--out DIR]
-//                [--data DIR] [a] [b] [c]
+//                [--data DIR] [--mesh FILE] [a] [b] [c] [e]
 // (--rate: only the tracker rows at that rate, for profiling one rate under callgrind;
 // --own-basin-gap: Body_pair_options::own_basin_gap of the body-pair rows.)
 #include <algorithm>
@@ -43,6 +45,7 @@
 #include "algorithms/pair/Extremal_tracker.h"
 #include "algorithms/distance/Global_distance.h"
 #include "algorithms/scene/Scene_stepper.h"
+#include "compare_meshes.h"
 #include "experiments/Egg_crate.h"
 #include "experiments/Ellipsoid_experiment.h"
 #include "io/Model_reader.h"
@@ -756,6 +759,7 @@ int main(int argc, char** argv) {
   double own_basin_gap = Body_pair_options{}.own_basin_gap;
   std::string out_dir;  // bench/results for full runs (below)
   std::string data = EXTREMAL_SHARED_DATA;
+  std::string large_mesh;  // (e): a mesh of 10^5 triangles or more
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick"))
@@ -770,14 +774,17 @@ int main(int argc, char** argv) {
       out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
       data = argv[++i];
-    else if (!std::strcmp(argv[i], "a") || !std::strcmp(argv[i], "b") || !std::strcmp(argv[i], "c"))
+    else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc)
+      large_mesh = argv[++i];
+    else if (!std::strcmp(argv[i], "a") || !std::strcmp(argv[i], "b") || !std::strcmp(argv[i], "c") ||
+             !std::strcmp(argv[i], "e"))
       only.push_back(argv[i]);
     else {
       const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
       if (!help) std::fprintf(stderr, "compare: unknown argument '%s'\n", argv[i]);
       std::fprintf(help ? stdout : stderr,
                    "usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] "
-                   "[--out DIR] [--data DIR] [a] [b] [c]\n");
+                   "[--out DIR] [--data DIR] [--mesh FILE] [a] [b] [c] [e]\n");
       return help ? 0 : 2;
     }
   }
@@ -803,6 +810,7 @@ int main(int argc, char** argv) {
       Scenario c = step_parts(quick, data, ok);
       if (ok) run_scenario(c, quick, trackers_only, only_rate, own_basin_gap, out_dir);
     }
+    if (wanted("e")) extremal::bench::run_mesh_scenario(quick, data, large_mesh);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "compare: %s\n", e.what());
     return 1;

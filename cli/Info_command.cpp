@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/Commands.h"
+#include "algorithms/mesh/Mesh_bvh.h"
 #include "io/Model_reader.h"
 #include "io/Shape_spec.h"
 #include "kernel/Error.h"
@@ -24,7 +25,7 @@ nlohmann::json pose_json(const Rigid_pose_3& X) {
   return {{"position", {t.x(), t.y(), t.z()}}, {"quaternion", {q.w(), q.x(), q.y(), q.z()}}};
 }
 
-nlohmann::json body_json(const Body& body) {
+nlohmann::json body_json(const Body& body, nlohmann::json& warnings) {
   nlohmann::json j;
   j["name"] = body.name;
   if (!body.source_name.empty()) j["source_name"] = body.source_name;
@@ -77,9 +78,17 @@ nlohmann::json body_json(const Body& body) {
                     {"seams", seams},              {"free", free_edges},
                     {"non_manifold", non_manifold}, {"degenerate", degenerate},
                     {"without_3d_curve", no_curve}, {"same_parameter", same_param}};
-  if (!body.mesh.empty())
+  if (!body.mesh.empty()) {
+    // A mesh that does not enclose a volume (or whose triangles turn both ways) is a sheet:
+    // its distances have no sign (docs/behaviour.md, "Meshes").
+    const Mesh_bvh hierarchy(body.mesh, body.name);
     j["mesh"] = {{"vertices", body.mesh.vertices.size()},
-                 {"triangles", body.mesh.triangles.size()}};
+                 {"triangles", body.mesh.triangles.size()},
+                 {"closed", hierarchy.closed()}};
+    if (!hierarchy.closed())
+      warnings.push_back("mesh '" + body.name + "' is not closed: " + hierarchy.closedness_reason() +
+                         "; treated as open (distances unsigned)");
+  }
   nlohmann::json faces = nlohmann::json::array();
   for (std::size_t i = 0; i < body.faces.size(); ++i) {
     const Face& f = body.faces[i];
@@ -117,7 +126,8 @@ void print_text(const nlohmann::json& info) {
     std::cout << "  body '" << b["name"].get<std::string>() << "': " << b["faces"] << " faces";
     if (b["is_point"].get<bool>()) std::cout << " (a point)";
     if (b.contains("mesh"))
-      std::cout << ", mesh " << b["mesh"]["triangles"] << " triangles";
+      std::cout << ", mesh " << b["mesh"]["triangles"] << " triangles"
+                << (b["mesh"]["closed"].get<bool>() ? " (closed)" : " (open)");
     std::cout << ", bbox " << b["bbox"].dump() << "\n";
     if (b["faces"].get<int>() > 0) {
       std::cout << "    surfaces " << b["surfaces"].dump() << ", degrees " << b["degrees"].dump()
@@ -149,13 +159,13 @@ int run_info(const Info_options& options) {
     info["warnings"] = nlohmann::json::array();
     nlohmann::json bodies = nlohmann::json::array();
     if (io::is_shape_spec(options.target)) {
-      bodies.push_back(body_json(io::parse_shape_spec(options.target)));
+      bodies.push_back(body_json(io::parse_shape_spec(options.target), info["warnings"]));
     } else {
       const io::Model model = io::read_model(options.target);
       info["units"] = model.unit;
       info["format"] = model.format_name;
       info["file_unit"] = model.file_unit;
-      for (const auto& b : model.bodies) bodies.push_back(body_json(b));
+      for (const auto& b : model.bodies) bodies.push_back(body_json(b, info["warnings"]));
       nlohmann::json skipped = nlohmann::json::array();
       for (const auto& s : model.skipped) {
         skipped.push_back({{"entity", s.entity}, {"reason", s.reason}, {"action", s.action}});

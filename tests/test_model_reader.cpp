@@ -361,6 +361,26 @@ TEST(ModelReader, AssemblyGivesOneBodyPerPlacedSolidWithNames) {
   EXPECT_EQ(names.size(), m.bodies.size());
 }
 
+TEST(ModelReader, AnStlsRepeatedCornersAreJoined) {
+  // Two facets sharing an edge, their normals apart: 4 vertices, not 6, corners in order.
+  const std::string stl =
+      "solid two\n"
+      " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n"
+      "  endloop\n endfacet\n"
+      " facet normal 0 0.6 0.8\n  outer loop\n   vertex 1 0 0\n   vertex 1 1 -0.5\n   vertex 0 1 0\n"
+      "  endloop\n endfacet\n"
+      "endsolid two\n";
+  const io::Model m = io::read_model_from_memory("two.stl", stl);
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Triangle_mesh& mesh = m.bodies[0].mesh;
+  ASSERT_EQ(mesh.triangles.size(), 2u);
+  EXPECT_EQ(mesh.vertices.size(), 4u);
+  // The shared edge (1, 0, 0)-(0, 1, 0) is one pair of vertex ids in both triangles.
+  EXPECT_EQ(mesh.triangles[0][1], mesh.triangles[1][0]);
+  EXPECT_EQ(mesh.triangles[0][2], mesh.triangles[1][2]);
+  EXPECT_EQ(mesh.vertices[static_cast<std::size_t>(mesh.triangles[1][1])], Point_3(1, 1, -0.5));
+}
+
 TEST(ModelReader, SceneUnitConversion) {
   io::Read_options mm, metres;
   metres.scene_unit = "m";

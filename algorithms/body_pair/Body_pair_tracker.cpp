@@ -8,6 +8,7 @@
 #include "algorithms/body_pair/internal/Depth_monitor.h"
 #include "algorithms/body_pair/internal/Kept_proof_stage.h"
 #include "algorithms/body_pair/internal/Live_set.h"
+#include "algorithms/body_pair/internal/Mesh_pair_stage.h"
 #include "algorithms/body_pair/internal/Pair_context.h"
 #include "algorithms/body_pair/internal/Pair_seeding.h"
 #include "kernel/Error.h"
@@ -100,6 +101,9 @@ struct Body_pair_tracker::Stages {
         candidates(std::make_unique<internal::Kept_proof_stage>(context, live, seeding)),
         depth(context, live, seeding) {
     seeding.attach(*candidates);
+    if (internal::Mesh_pair_stage::takes(*context.model_a, *context.model_b))
+      meshes = std::make_unique<internal::Mesh_pair_stage>(*context.model_a, *context.model_b,
+                                                           context.options);
   }
 
   bool is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const;
@@ -123,6 +127,8 @@ struct Body_pair_tracker::Stages {
   internal::Pair_seeding seeding;
   std::unique_ptr<internal::Candidate_stage> candidates;
   internal::Depth_monitor depth;
+  // Meshes and points only: the certified front in place of every stage above.
+  std::unique_ptr<internal::Mesh_pair_stage> meshes;
   Pair_report report;
   long seen = -1;        // the live set's generation step_trackers last saw
   double best = HUGE_VAL;  // the tracked minimum it read
@@ -318,6 +324,10 @@ const Tracking_model& Body_pair_tracker::model_a() const { return *m->context.mo
 const Tracking_model& Body_pair_tracker::model_b() const { return *m->context.model_b; }
 
 void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  if (m->meshes) {  // (the first step makes the front)
+    m->meshes->reset();
+    return;
+  }
   m->start(X_WA, X_WB);
 }
 
@@ -340,10 +350,19 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
     c.stats.candidates = 0;
     s.started = false;  // re-seed when the pair comes back within the threshold
     s.have_pose = false;
+    if (s.meshes) s.meshes->reset();
     return r;
   }
   // Nothing moved since the last step: the same answer.
   if (s.started && s.have_pose && same_pose(X_WA, s.last_A) && same_pose(X_WB, s.last_B)) return r;
+  if (s.meshes) {
+    ++c.steps;
+    s.meshes->step(X_WA, X_WB, r, c.stats);
+    s.started = s.have_pose = true;
+    s.last_A = X_WA;
+    s.last_B = X_WB;
+    return r;
+  }
   c.t = t;
   c.dt = dt;
   c.X_WA = &X_WA;

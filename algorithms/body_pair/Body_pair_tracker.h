@@ -12,6 +12,8 @@
 //   - re-seeding by the certified global solver when no tracker holds a pair, and audits.
 // After any stage that changed the live set, its new trackers are stepped. The answer is the
 // minimum over the readings that hold, with face ids and parameters, or the solver's.
+// Two bodies each a mesh or a point run none of these: a certified front between their
+// hierarchies (Mesh_front.h) is carried across steps instead (internal/Mesh_pair_stage.h).
 #pragma once
 
 #include <memory>

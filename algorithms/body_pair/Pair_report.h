@@ -91,6 +91,11 @@ struct Pair_statistics {
   // Corrections run over the trackers' steps (Tracker_options), and the steps that ran all of
   // them without converging first.
   long corrections = 0, capped_corrections = 0;
+  // Mesh pairs (two bodies each a mesh or a point): the certified front's work so far. Entries
+  // opened (their decayed bound no longer cleared the minimum), box pairs bounded, triangle
+  // pairs measured exactly, and traversals from the roots (the first step, growth, and steps
+  // whose carried front cost more than a traversal). `candidates` is the front's size.
+  long front_opened = 0, front_box_bounds = 0, front_triangle_pairs = 0, front_traversals = 0;
 };
 
 }  // namespace extremal

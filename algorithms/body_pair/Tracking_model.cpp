@@ -178,15 +178,35 @@ void Edge_on_face::map(double t, double out[2]) const {
   out[1] = origin[1] + t * direction[1];
 }
 
-Tracking_model::Tracking_model(const Body& body)
-    : m_body(body), m_hierarchy(body), m_closed(body_closedness(body).closed) {
+Tracking_model::Tracking_model(const Body& body) : m_body(body) {
+  if (!body.mesh.empty()) {
+    // A mesh: its hierarchy now; the primitives and the solver's hierarchy when a pair needs
+    // them (a mesh against a NURBS body), so meshes against meshes and points cost only these.
+    m_mesh = std::make_unique<Mesh_bvh>(body.mesh, body.name);
+    m_box = m_mesh->box();
+    m_has_mesh = true;
+    m_closed = m_mesh->closed();
+    return;
+  }
+  m_closed = body_closedness(body).closed;
+  std::call_once(m_prepared, [this] { build_primitives(); });
+}
+
+void Tracking_model::prepare() const {
+  // (Building fills members that are read-only once built: made once, by whichever thread.)
+  std::call_once(m_prepared, [this] { const_cast<Tracking_model*>(this)->build_primitives(); });
+}
+
+void Tracking_model::build_primitives() {
+  const Body& body = m_body;
+  m_hierarchy = std::make_unique<Distance_hierarchy>(body);
   if (body.is_point) {
     Primitive p;
     p.kind = Primitive_kind::Point;
     p.index = 0;
     p.feature = Feature::point(Vec3::Zero());
     p.box = Point_3(0, 0, 0).bbox();
-    p.global_element = m_hierarchy.element_of(Element_kind::Point, 0);
+    p.global_element = m_hierarchy->element_of(Element_kind::Point, 0);
     m_point_primitive = 0;
     m_primitives.push_back(p);
   }
@@ -199,7 +219,7 @@ Tracking_model::Tracking_model(const Body& body)
     p.feature = Feature::surface(f.surface);
     p.box = f.surface.hull_bbox();
     if (f.trim_region.is_trimmed()) p.trim = &f.trim_region;
-    p.global_element = m_hierarchy.element_of(Element_kind::Face, p.index);
+    p.global_element = m_hierarchy->element_of(Element_kind::Face, p.index);
     m_face_primitive[i] = static_cast<int>(m_primitives.size());
     m_primitives.push_back(p);
   }
@@ -210,7 +230,7 @@ Tracking_model::Tracking_model(const Body& body)
     p.index = static_cast<int>(i);
     p.feature = Feature::curve(body.curves[i]);
     p.box = body.curves[i].hull_bbox();
-    p.global_element = m_hierarchy.element_of(Element_kind::Curve, p.index);
+    p.global_element = m_hierarchy->element_of(Element_kind::Curve, p.index);
     m_curve_primitive[i] = static_cast<int>(m_primitives.size());
     m_primitives.push_back(p);
   }
@@ -240,7 +260,7 @@ void Tracking_model::add_brep_edges() {
     p.feature = Feature::curve(*m_own_curves.back());
     p.box = m_own_curves.back()->hull_bbox();
     p.global_element =
-        m_hierarchy.element_of(Element_kind::Curve, static_cast<int>(body.curves.size() + k));
+        m_hierarchy->element_of(Element_kind::Curve, static_cast<int>(body.curves.size() + k));
     const int prim = static_cast<int>(m_primitives.size());
     p.first_link = static_cast<int>(m_edge_faces.size());
     for (const Edge_use& u : edge.uses) {
@@ -304,7 +324,7 @@ void Tracking_model::add_mesh() {
     p.feature = Feature::surface(*m_own_surfaces.back());
     Bbox_3 box = p0.bbox() + p1.bbox() + p2.bbox();
     p.box = box;
-    p.global_element = m_hierarchy.element_of(
+    p.global_element = m_hierarchy->element_of(
         Element_kind::Face, static_cast<int>(m_body.faces.size() + t));
     m_triangle_primitive[t] = static_cast<int>(m_primitives.size());
     m_primitives.push_back(p);
@@ -448,7 +468,8 @@ void Tracking_model::match_patch_sides() {
 void Tracking_model::build_tree() {
   std::vector<int> ids(m_primitives.size());
   std::iota(ids.begin(), ids.end(), 0);
-  for (const Primitive& p : m_primitives) m_box += p.box;
+  if (!m_mesh)  // (a mesh's box is its hierarchy's, read by pairs already)
+    for (const Primitive& p : m_primitives) m_box += p.box;
   if (ids.empty()) throw Invalid_input("body '" + m_body.name + "' has nothing to track");
   m_tree.reserve(2 * ids.size());
   // Recursive median split on the longest axis of the centres.
@@ -487,6 +508,7 @@ void Tracking_model::build_tree() {
 }
 
 int Tracking_model::primitive_of(Element_kind kind, int index) const {
+  prepare();
   switch (kind) {
     case Element_kind::Point: return m_point_primitive;
     case Element_kind::Face: {
@@ -508,6 +530,7 @@ int Tracking_model::primitive_of(Element_kind kind, int index) const {
 }
 
 void Tracking_model::collect(const Bbox_3& query, bool with_mesh_edges, std::vector<int>& out) const {
+  prepare();
   // Iterative descent with a fixed stack (the tree is balanced: depth ~ log2 n).
   int stack[128];
   int top = 0;
@@ -526,18 +549,21 @@ void Tracking_model::collect(const Bbox_3& query, bool with_mesh_edges, std::vec
 }
 
 const int* Tracking_model::edges_of(int f, int& count) const {
+  prepare();
   const Primitive& p = m_primitives[f];
   count = p.is_surface() ? p.link_count : 0;
   return count ? m_face_edges.data() + p.first_link : nullptr;
 }
 
 const Edge_on_face* Tracking_model::faces_of(int e, int& count) const {
+  prepare();
   const Primitive& p = m_primitives[e];
   count = p.feature.dimension() == 1 ? p.link_count : 0;
   return count ? m_edge_faces.data() + p.first_link : nullptr;
 }
 
 bool Tracking_model::contains(int primitive, const double* q) const {
+  prepare();
   const Primitive& p = m_primitives[primitive];
   if (p.kind == Primitive_kind::Triangle) return q[0] + q[1] <= 1.0 + 1e-12;
   if (p.trim) return p.trim->contains(q[0], q[1]);
@@ -545,6 +571,7 @@ bool Tracking_model::contains(int primitive, const double* q) const {
 }
 
 bool Tracking_model::map_across_side(int f, int side, const double* params, double out[2]) const {
+  prepare();
   const Primitive& p = m_primitives[f];
   const int n = p.side_neighbour[side];
   if (n < 0) return false;
@@ -560,6 +587,7 @@ bool Tracking_model::map_across_side(int f, int side, const double* params, doub
 }
 
 int Tracking_model::nearest_edge(int f, const Vec3& p, double& t, const Vec3* toward) const {
+  prepare();
   int count = 0;
   const int* edges = edges_of(f, count);
   int best = -1;

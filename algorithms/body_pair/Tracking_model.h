@@ -15,11 +15,13 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <utility>
 #include <vector>
 
 #include "algorithms/pair/Feature.h"
 #include "algorithms/distance/Global_distance.h"
+#include "algorithms/mesh/Mesh_bvh.h"
 #include "kernel/Body.h"
 
 namespace extremal {
@@ -73,8 +75,19 @@ class Tracking_model {
   Tracking_model& operator=(const Tracking_model&) = delete;
 
   const Body& body() const { return m_body; }
-  const std::vector<Primitive>& primitives() const { return m_primitives; }
-  const Distance_hierarchy& hierarchy() const { return m_hierarchy; }
+  // A mesh body's hierarchy of triangles (null for other bodies).
+  const Mesh_bvh* mesh() const { return m_mesh.get(); }
+  // The primitives, their tree and adjacency, and the certified solver's hierarchy: built with
+  // the model for NURBS and point bodies, on first use for a mesh (thread-safe).
+  void prepare() const;
+  const std::vector<Primitive>& primitives() const {
+    prepare();
+    return m_primitives;
+  }
+  const Distance_hierarchy& hierarchy() const {
+    prepare();
+    return *m_hierarchy;
+  }
   // The primitive of a global result's element (kind and Body index as in Distance_result).
   int primitive_of(Element_kind kind, int index) const;
   // Box of the whole body, body frame.
@@ -83,7 +96,10 @@ class Tracking_model {
   // Whether the body encloses a volume (body_closedness: a closed shell or mesh), decided once.
   bool closed() const { return m_closed; }
   // Number of patch sides matched geometrically (multi-patch bodies without B-rep).
-  int matched_sides() const { return m_matched_sides; }
+  int matched_sides() const {
+    prepare();
+    return m_matched_sides;
+  }
 
   // Appends to `out` the primitives whose body-frame box overlaps `query` (body frame),
   // skipping mesh edges when `with_mesh_edges` is false. No allocation beyond `out`'s growth.
@@ -107,6 +123,7 @@ class Tracking_model {
   int nearest_edge(int f, const Vec3& p, double& t, const Vec3* toward = nullptr) const;
 
  private:
+  void build_primitives();
   void add_brep_edges();
   void add_mesh();
   void match_patch_sides();
@@ -115,7 +132,9 @@ class Tracking_model {
   void link_faces_to_edges(std::vector<std::pair<int, int>>& face_edge);
 
   const Body& m_body;
-  Distance_hierarchy m_hierarchy;
+  std::unique_ptr<Distance_hierarchy> m_hierarchy;
+  std::unique_ptr<Mesh_bvh> m_mesh;
+  mutable std::once_flag m_prepared;
   std::vector<Primitive> m_primitives;
   std::vector<std::unique_ptr<Nurbs_surface_3>> m_own_surfaces;
   std::vector<std::unique_ptr<Nurbs_curve_3>> m_own_curves;

@@ -20,8 +20,20 @@ void coordinates(const Vec3& p, const Vec3& p0, const Vec3& p1, const Vec3& p2, 
   uv[1] = (a * e - b * d) / det;
 }
 
-// Closest points of segments [p, q] and [r, s] (Ericson, Real-Time Collision Detection 5.1.9).
-double segment_segment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
+// A point where segment [p, q] crosses triangle t, if it does.
+bool segment_crosses(const Vec3& p, const Vec3& q, const Vec3 t[3], Vec3& x) {
+  const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
+  if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || dp == dq) return false;
+  x = p + (q - p) * (dp / (dp - dq));
+  double uv[2];
+  coordinates(x, t[0], t[1], t[2], uv);
+  return uv[0] >= 0.0 && uv[1] >= 0.0 && uv[0] + uv[1] <= 1.0;
+}
+
+}  // namespace
+
+double segment_segment_squared(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
                        Vec3& c2) {
   const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
@@ -29,7 +41,7 @@ double segment_segment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec
   if (a <= 0.0 && e <= 0.0) {
     c1 = p1;
     c2 = p2;
-    return (c1 - c2).norm();
+    return (c1 - c2).squaredNorm();
   }
   if (a <= 0.0) {
     t = std::clamp(f / e, 0.0, 1.0);
@@ -52,21 +64,8 @@ double segment_segment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec
   }
   c1 = p1 + d1 * s;
   c2 = p2 + d2 * t;
-  return (c1 - c2).norm();
+  return (c1 - c2).squaredNorm();
 }
-
-// A point where segment [p, q] crosses triangle t, if it does.
-bool segment_crosses(const Vec3& p, const Vec3& q, const Vec3 t[3], Vec3& x) {
-  const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
-  const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
-  if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || dp == dq) return false;
-  x = p + (q - p) * (dp / (dp - dq));
-  double uv[2];
-  coordinates(x, t[0], t[1], t[2], uv);
-  return uv[0] >= 0.0 && uv[1] >= 0.0 && uv[0] + uv[1] <= 1.0;
-}
-
-}  // namespace
 
 Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, double uv[2]) {
   // Ericson 5.1.5: Voronoi regions of the vertices, edges and face.
@@ -106,7 +105,16 @@ Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3
 Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]) {
   Triangle_closest r;
   r.distance = HUGE_VAL;
-  for (int side = 0; side < 2; ++side) {
+  // An edge of one triangle meets the other only where the other's plane separates the edge's
+  // ends: when every corner of b lies strictly on one side of a's plane, or every corner of a
+  // on one side of b's, the triangles do not meet and the crossing tests are skipped.
+  auto one_side = [](const Vec3 t[3], const Vec3 o[3]) {
+    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+    const double d0 = n.dot(o[0] - t[0]), d1 = n.dot(o[1] - t[0]), d2 = n.dot(o[2] - t[0]);
+    return (d0 > 0.0 && d1 > 0.0 && d2 > 0.0) || (d0 < 0.0 && d1 < 0.0 && d2 < 0.0);
+  };
+  const bool apart = one_side(a, b) || one_side(b, a);
+  for (int side = 0; side < 2 && !apart; ++side) {
     const Vec3* s = side == 0 ? a : b;
     const Vec3* o = side == 0 ? b : a;
     for (int e = 0; e < 3; ++e) {
@@ -120,9 +128,12 @@ Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]) {
       }
     }
   }
-  auto offer = [&](double d, const Vec3& pa, const Vec3& pb) {
-    if (d < r.distance) {
-      r.distance = d;
+  // Compared squared (the square root is monotone and correctly rounded: the least of the
+  // roots is the root of the least), one root at the end.
+  double least = HUGE_VAL;
+  auto offer = [&](double d2, const Vec3& pa, const Vec3& pb) {
+    if (d2 < least) {
+      least = d2;
       r.point_a = pa;
       r.point_b = pb;
     }
@@ -130,16 +141,17 @@ Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]) {
   double uv[2];
   for (int k = 0; k < 3; ++k) {
     const Vec3 qb = closest_on_triangle(a[k], b[0], b[1], b[2], uv);
-    offer((a[k] - qb).norm(), a[k], qb);
+    offer((a[k] - qb).squaredNorm(), a[k], qb);
     const Vec3 qa = closest_on_triangle(b[k], a[0], a[1], a[2], uv);
-    offer((b[k] - qa).norm(), qa, b[k]);
+    offer((b[k] - qa).squaredNorm(), qa, b[k]);
   }
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       Vec3 ca, cb;
-      const double d = segment_segment(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], ca, cb);
-      offer(d, ca, cb);
+      const double d2 = segment_segment_squared(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], ca, cb);
+      offer(d2, ca, cb);
     }
+  r.distance = std::sqrt(least);
   coordinates(r.point_a, a[0], a[1], a[2], r.uv_a);
   coordinates(r.point_b, b[0], b[1], b[2], r.uv_b);
   return r;

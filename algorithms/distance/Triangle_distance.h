@@ -16,6 +16,11 @@ struct Triangle_closest {
 Vec3 closest_on_triangle(const Vec3& q, const Vec3& p0, const Vec3& p1, const Vec3& p2,
                          double uv[2]);
 
+// Closest points c1 of segment [p1, q1] and c2 of [p2, q2] (Ericson, Real-Time Collision
+// Detection 5.1.9); returns their squared distance.
+double segment_segment_squared(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2,
+                               Vec3& c1, Vec3& c2);
+
 // Closest points of two triangles (exact up to rounding): the minimum over the six
 // vertex-triangle and nine edge-edge pairs, or a common point when they meet.
 Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]);

@@ -3,6 +3,7 @@
 // transforms are applied, so the body's triangles are in the file frame; the whole file is one
 // body.
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <sstream>
 
@@ -88,13 +89,54 @@ struct Collector {
   }
 };
 
+// Vertices at the same position become one (the first of them, in file order); triangles are
+// renumbered, their corners' order kept. Test ModelReader.AnStlsRepeatedCornersAreJoined.
+void weld_vertices(Triangle_mesh& mesh) {
+  const std::size_t n = mesh.vertices.size();
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  auto less = [&](int a, int b) {
+    const Point_3& p = mesh.vertices[static_cast<std::size_t>(a)];
+    const Point_3& q = mesh.vertices[static_cast<std::size_t>(b)];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  // Each vertex's representative: the first (smallest index) of its position's run.
+  std::vector<int> first(n);
+  for (std::size_t i = 0; i < n;) {
+    std::size_t j = i;
+    while (j < n && mesh.vertices[static_cast<std::size_t>(order[j])] == mesh.vertices[static_cast<std::size_t>(order[i])]) ++j;
+    for (std::size_t k = i; k < j; ++k) first[static_cast<std::size_t>(order[k])] = order[i];
+    i = j;
+  }
+  // Kept vertices in file order, renumbered.
+  std::vector<int> renumber(n, -1);
+  std::vector<Point_3> kept;
+  kept.reserve(n);
+  for (std::size_t v = 0; v < n; ++v)
+    if (first[v] == static_cast<int>(v)) {
+      renumber[v] = static_cast<int>(kept.size());
+      kept.push_back(mesh.vertices[v]);
+    }
+  for (auto& t : mesh.triangles)
+    for (int& k : t) k = renumber[static_cast<std::size_t>(first[static_cast<std::size_t>(k)])];
+  kept.shrink_to_fit();
+  mesh.vertices = std::move(kept);
+}
+
 }  // namespace
 
 void read_mesh(const std::string& path, const std::string* bytes, const Read_options& options,
                Model& model) {
   Assimp::Importer importer;
   // Points and lines are counted and reported, not read as triangles.
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices;
+  // Corners at the same position are joined below (weld_vertices), by position only: assimp's
+  // JoinIdenticalVertices also compares normals (so STL corners stay apart) and holds about
+  // 800 bytes a triangle while it runs.
+  const unsigned flags = aiProcess_Triangulate;
   const aiScene* scene = nullptr;
   const std::string ext = lower_ext(path);
   if (bytes)
@@ -158,6 +200,7 @@ void read_mesh(const std::string& path, const std::string* bytes, const Read_opt
   if (col.bad_vertices)
     model.warnings.push_back(path + ": " + std::to_string(col.bad_vertices) +
                              " vertices with non-finite coordinates set to the origin");
+  weld_vertices(body.mesh);
   if (!body.mesh.empty()) model.bodies.push_back(std::move(body));
 }
 

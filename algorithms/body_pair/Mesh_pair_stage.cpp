@@ -1,0 +1,147 @@
+#include "algorithms/body_pair/internal/Mesh_pair_stage.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/body_pair/internal/Body_pair_support.h"
+#include "algorithms/distance/Penetration_depth.h"
+#include "algorithms/mesh/internal/Mesh_tuning.h"
+
+using extremal::internal::k_approach_rounding;
+
+namespace extremal::internal {
+
+namespace {
+
+// How much closer the relative motion from X0 to X1 (X_MO) can have brought any point of O's
+// box (body frame, a ball of centre c and radius r) to M: |(R1 - R0) p + t1 - t0| <=
+// |(R1 - R0) c + t1 - t0| + |R1 - R0| r, with |R1 - R0| = 2 sin(theta / 2) exactly (theta the
+// angle of R0^T R1: R0^T R1 - I is normal with eigenvalues 0 and e^(+-i theta) - 1). Distances
+// between rigid placements depend on the relative pose only. Rounding: a few ulps of the
+// lengths involved.
+double approach(const Bbox_3& box_o, const Rigid_pose_3& X0, const Rigid_pose_3& X1) {
+  const Vec3 c(0.5 * (box_o.xmin() + box_o.xmax()), 0.5 * (box_o.ymin() + box_o.ymax()),
+               0.5 * (box_o.zmin() + box_o.zmax()));
+  const double r = 0.5 * box_diagonal(box_o);
+  const Mat3 Q = X0.rotation().transpose() * X1.rotation();
+  const double cos_theta = std::clamp(0.5 * (Q.trace() - 1.0), -1.0, 1.0);
+  const double spin = std::sqrt(std::max(0.0, 2.0 - 2.0 * cos_theta));  // 2 sin(theta / 2)
+  const Vec3 moved = (X1.rotation() - X0.rotation()) * c + (X1.translation() - X0.translation());
+  const double size = c.norm() + r + X0.translation().norm() + X1.translation().norm();
+  return moved.norm() + spin * r + k_approach_rounding * size;
+}
+
+// A side this engine takes: a mesh without faces or curves, or a point.
+bool mesh_or_point(const Tracking_model& m) {
+  const Body& b = m.body();
+  return b.is_point || (m.mesh() && b.faces.empty() && b.curves.empty());
+}
+
+}  // namespace
+
+bool Mesh_pair_stage::takes(const Tracking_model& a, const Tracking_model& b) {
+  return mesh_or_point(a) && mesh_or_point(b) && (a.mesh() || b.mesh());
+}
+
+Mesh_pair_stage::Mesh_pair_stage(const Tracking_model& a, const Tracking_model& b,
+                                 const Body_pair_options& options)
+    : m_a(a), m_b(b), m_options(options), m_swapped(!a.mesh()),
+      m_mesh(a.mesh() ? *a.mesh() : *b.mesh()), m_other(a.mesh() ? b.mesh() : nullptr),
+      m_front(m_mesh, m_other) {}
+
+bool Mesh_pair_stage::nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) const {
+  if (!m_other) {  // the point, inside the closed mesh by its closest feature's pseudo-normal
+    if (!m_mesh.closed() || c.triangle_a < 0) return false;
+    const Vec3* t = m_mesh.triangle(c.triangle_a);
+    Mesh_point closest = closest_on_triangle_feature(X_MO.translation(), t[0], t[1], t[2]);
+    closest.triangle = c.triangle_a;
+    return m_mesh.inside(X_MO.translation(), closest);
+  }
+  if (!m_mesh.closed() || !m_other->closed()) return false;
+  // Surfaces apart: each surface lies wholly inside or outside the other body, so one vertex
+  // of each decides, and only while the boxes overlap (test
+  // MeshPairs.ABallInsideAClosedMeshIsNestedAndReadsTheHullsDepth).
+  const Bbox_3 other_in_m = transformed(m_other->box(), X_MO);
+  if (box_distance(m_mesh.box(), other_in_m) > 0.0) return false;
+  if (m_mesh.inside(X_MO.apply_point(m_other->corners(0)[0]))) return true;
+  return m_other->inside(X_MO.inverse().apply_point(m_mesh.corners(0)[0]));
+}
+
+void Mesh_pair_stage::read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                 Pair_report& r) {
+  const Signed_distance_result h =
+      hull_signed_distance(m_a.hierarchy(), X_WA, m_b.hierarchy(), X_WB, m_options.overlap);
+  if (!(h.distance < -m_options.contact_tolerance)) return;  // the hulls barely meet: contact
+  r.distance = h.distance;
+  r.point_a = h.point_a;
+  r.point_b = h.point_b;
+  r.normal = h.normal;
+  // A mesh body's triangles are its hierarchy's faces (it has no others), a point is 0.
+  r.feature_a = h.kind_a == Element_kind::Face ? h.element_a : 0;
+  r.feature_b = h.kind_b == Element_kind::Face ? h.element_b : 0;
+  r.params.setZero();
+  int k = 0;
+  if (m_a.mesh()) r.params[k++] = h.params_a[0], r.params[k++] = h.params_a[1];
+  if (m_b.mesh()) r.params[k++] = h.params_b[0], r.params[k++] = h.params_b[1];
+}
+
+void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Pair_report& r,
+                           Pair_statistics& stats) {
+  const Rigid_pose_3& X_WM = m_swapped ? X_WB : X_WA;
+  const Rigid_pose_3& X_WO = m_swapped ? X_WA : X_WB;
+  const Rigid_pose_3 X_MO = X_WM.inverse() * X_WO;
+  const Tracking_model& O = m_swapped ? m_a : m_b;
+  double closer = 0.0;
+  if (m_started) {
+    // (Either side's displacement in the other's frame bounds it: the smaller.)
+    const Tracking_model& M = m_swapped ? m_b : m_a;
+    closer = std::min(approach(O.box(), m_last, X_MO),
+                      approach(M.box(), m_last.inverse(), X_MO.inverse()));
+  } else {
+    m_front.reset();
+  }
+  m_started = true;
+  m_last = X_MO;
+  const double tolerance = k_front_relative_tolerance * std::abs(m_front.closest().distance);
+  const Mesh_closest& c = m_front.update(X_MO, closer, std::isfinite(tolerance) ? tolerance : 0.0);
+
+  // The surfaces' closest pair, in the world; A's witness first.
+  const Vec3 on_m = X_WM.apply_point(c.point_a), on_o = X_WM.apply_point(c.point_b);
+  r.distance = c.distance;
+  r.point_a = m_swapped ? on_o : on_m;
+  r.point_b = m_swapped ? on_m : on_o;
+  const int tri_m = c.triangle_a, tri_o = c.triangle_b;
+  r.feature_a = m_swapped ? (m_other ? tri_o : 0) : tri_m;
+  r.feature_b = m_swapped ? tri_m : (m_other ? tri_o : 0);
+  r.params.setZero();
+  if (m_swapped) {  // a point's witness has no parameters: the mesh's come first
+    r.params << c.uv_a[0], c.uv_a[1], 0.0, 0.0;
+  } else if (m_other) {
+    r.params << c.uv_a[0], c.uv_a[1], c.uv_b[0], c.uv_b[1];
+  } else {
+    r.params << c.uv_a[0], c.uv_a[1], 0.0, 0.0;
+  }
+  r.edge_a = r.edge_b = -1;
+  r.degeneracy = Degeneracy::None;
+  r.solved = false;
+  r.rejected_by = Reading_rule::None;
+
+  const double tol = m_options.contact_tolerance;
+  if (!m_other && c.distance > 0.0 && nested(X_MO, c)) r.distance = -c.distance;
+  // point_b - point_a = distance * normal, inside as apart.
+  r.normal = r.distance != 0.0 ? Vec3((r.point_b - r.point_a) / r.distance) : Vec3::Zero();
+  if (m_other && m_mesh.closed() && m_other->closed() && (!(c.distance > tol) || nested(X_MO, c)))
+    read_depth(X_WA, X_WB, r);
+  r.status = r.distance < -tol ? Pair_status::Penetrating
+             : r.distance <= tol ? Pair_status::Contact
+                                 : Pair_status::Tracking;
+  const Mesh_front_statistics& f = m_front.statistics();
+  stats.trackers = 1;
+  stats.candidates = static_cast<int>(m_front.size());
+  stats.front_opened = f.opened;
+  stats.front_box_bounds = f.box_bounds;
+  stats.front_triangle_pairs = f.triangle_pairs;
+  stats.front_traversals = f.traversals;
+}
+
+}  // namespace extremal::internal

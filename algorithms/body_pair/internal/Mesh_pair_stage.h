@@ -1,0 +1,57 @@
+// The body-pair tracker's engine for two bodies each a triangle mesh or a point (at least one a
+// mesh): the certified front of Mesh_front.h carried across steps in place of the trackers and
+// their candidate stage (docs/design.md, "Meshes"). The reading:
+//   - apart: the front's closest triangle pair (or triangle and point), exact;
+//   - a point against a closed mesh: minus its distance when the point is inside (the closest
+//     feature's angle-weighted pseudo-normal), the point's own depth;
+//   - two closed meshes whose surfaces cross, or one inside the other (a vertex of each tested
+//     against the other while their boxes overlap): minus the depth of their convex hulls
+//     (hull_signed_distance, the minimum translation distance when both are convex, its
+//     support points a vertex-face or edge-edge pair), the same definition as `extremal
+//     distance --signed`;
+//   - an open (or inconsistently oriented) mesh is a sheet: its distance has no sign.
+#pragma once
+
+#include <memory>
+
+#include "algorithms/body_pair/Body_pair_options.h"
+#include "algorithms/body_pair/Pair_report.h"
+#include "algorithms/body_pair/Tracking_model.h"
+#include "algorithms/mesh/Mesh_front.h"
+
+namespace extremal::internal {
+
+class Mesh_pair_stage {
+ public:
+  // Whether the pair of models is one this engine takes.
+  static bool takes(const Tracking_model& a, const Tracking_model& b);
+
+  Mesh_pair_stage(const Tracking_model& a, const Tracking_model& b, const Body_pair_options& options);
+
+  // The reading at poses X_WA, X_WB into `r` (all but its time).
+  void step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Pair_report& r,
+            Pair_statistics& stats);
+  // The next step starts the front again from the roots (the pair left the threshold).
+  void reset() { m_started = false; }
+
+  const Mesh_front_statistics& front_statistics() const { return m_front.statistics(); }
+
+ private:
+  // Whether the bodies overlap though their surfaces are apart: one closed body wholly inside
+  // the other (or the point inside the closed mesh).
+  bool nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) const;
+  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Pair_report& r);
+
+  const Tracking_model& m_a;
+  const Tracking_model& m_b;
+  const Body_pair_options& m_options;
+  // The front runs from the mesh side M (A, unless A is the point) to the other side O.
+  bool m_swapped;
+  const Mesh_bvh& m_mesh;
+  const Mesh_bvh* m_other;  // null: the other side is a point
+  Mesh_front m_front;
+  bool m_started = false;
+  Rigid_pose_3 m_last;  // X_MO of the last step
+};
+
+}  // namespace extremal::internal
