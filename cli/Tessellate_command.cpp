@@ -47,21 +47,25 @@ int run_tessellate(const Tessellate_options& options) {
       skipped = model.skipped.size();
     }
     std::size_t faces = 0, mesh_triangles = 0;
-    Bbox_3 box;
     for (const Body& b : bodies) {
       faces += b.faces.size();
       mesh_triangles += b.mesh.triangles.size();
-      if (!b.faces.empty() || !b.mesh.empty()) box += b.trimmed_bbox(b.placement);
     }
     if (faces == 0 && mesh_triangles == 0)
       throw Invalid_input(options.target +
                           ": nothing to tessellate (no faces and no mesh triangles)");
-    const double diagonal = std::sqrt((box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
-                                      (box.ymax() - box.ymin()) * (box.ymax() - box.ymin()) +
-                                      (box.zmax() - box.zmin()) * (box.zmax() - box.zmin()));
     const bool relative = options.relative || options.deflection == 0.0;
     const double fraction =
         options.deflection == 0.0 ? k_default_relative_deflection : options.deflection;
+    double diagonal = 0.0;  // of the bodies' box in the file frame, for a relative deflection
+    if (relative) {
+      Bbox_3 box;
+      for (const Body& b : bodies)
+        if (!b.faces.empty() || !b.mesh.empty()) box += b.trimmed_bbox(b.placement);
+      diagonal = std::sqrt((box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
+                           (box.ymax() - box.ymin()) * (box.ymax() - box.ymin()) +
+                           (box.zmax() - box.zmin()) * (box.zmax() - box.zmin()));
+    }
     deflection = relative ? fraction * diagonal : fraction;
     if (!(std::isfinite(deflection) && deflection > 0.0)) {
       std::ostringstream os;
@@ -79,8 +83,9 @@ int run_tessellate(const Tessellate_options& options) {
       tessellate(bodies[k], bodies[k].placement, static_cast<int>(k), topt, t);
     const double tess_seconds = seconds_since(t_tess);
     if (t.mesh.triangles.empty())
-      throw Invalid_input(options.target + ": the tessellation has no triangle (every face is "
-                                           "degenerate or trimmed away)");
+      throw Invalid_input(options.target +
+                          ": the tessellation has no triangle (every face is "
+                          "degenerate or trimmed away)");
 
     std::ostringstream comment;
     comment << "extremal tessellate " << std::filesystem::path(options.target).filename().string()
@@ -92,9 +97,10 @@ int run_tessellate(const Tessellate_options& options) {
     std::ostringstream os;
     os.precision(4);
     os << who << options.target << ": " << t.faces << " faces, " << t.mesh.triangles.size()
-       << " triangles, " << t.mesh.vertices.size() << " vertices, deflection " << deflection
-       << " " << unit;
-    if (relative) os << " (" << fraction << " of the box diagonal " << diagonal << " " << unit << ")";
+       << " triangles, " << t.mesh.vertices.size() << " vertices, deflection " << deflection << " "
+       << unit;
+    if (relative)
+      os << " (" << fraction << " of the box diagonal " << diagonal << " " << unit << ")";
     os << ", " << tess_seconds << " s to tessellate, " << seconds_since(t0) << " s in all; wrote "
        << options.output;
     if (!ec) os << " (" << bytes << " bytes)";

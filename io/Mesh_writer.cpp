@@ -37,7 +37,8 @@ struct File_closer {
 // Buffered output with the file's name in every error.
 class Output {
  public:
-  Output(const std::string& path, const char* mode) : m_path(path), m_file(std::fopen(path.c_str(), mode)) {
+  Output(const std::string& path, const char* mode)
+      : m_path(path), m_file(std::fopen(path.c_str(), mode)) {
     if (!m_file) fail("cannot open for writing");
     std::setvbuf(m_file.get(), nullptr, _IOFBF, 1 << 20);
   }
@@ -64,9 +65,7 @@ class Output {
 };
 
 // Appends x in the shortest text that reads back to the same double.
-char* put_double(char* at, char* end, double x) {
-  return std::to_chars(at, end, x).ptr;
-}
+char* put_double(char* at, char* end, double x) { return std::to_chars(at, end, x).ptr; }
 
 char* put_int(char* at, char* end, long long x) { return std::to_chars(at, end, x).ptr; }
 

@@ -232,8 +232,8 @@ double largest_h(double m_uu, double m_uv_h, double rest) {
 // (M_uu hu^2 + 2 M_uv hu hv + M_vv hv^2) / 8 <= D: balanced as sqrt(M_uu) hu = sqrt(M_vv) hv
 // where both bounds are non-zero, then widened up to the span in the direction that is not
 // limiting.
-void spacing(const Derivative_bounds& b, double D, double width_u, double width_v,
-             double& hu, double& hv) {
+void spacing(const Derivative_bounds& b, double D, double width_u, double width_v, double& hu,
+             double& hv) {
   const double a = std::sqrt(b.uu), c = std::sqrt(b.vv), budget = 8.0 * D;
   const double inf = std::numeric_limits<double>::infinity();
   if (a > 0.0 && c > 0.0) {
@@ -297,6 +297,10 @@ bool plan_leaf(const Nurbs_surface_3& piece, const Face_context& f, Leaf& leaf, 
   if (f.trimmed && f.face.trim_region.box_outside(leaf.u0, leaf.v0, leaf.u1, leaf.v1)) return false;
   const Derivative_bounds b = derivative_bounds(piece);
   spacing(b, f.D, leaf.u1 - leaf.u0, leaf.v1 - leaf.v0, leaf.hu, leaf.hv);
+  // A bound that overflowed (NaN) must not pass for "no constraint": a zero spacing, which the
+  // cap refuses.
+  if (!(leaf.hu > 0.0)) leaf.hu = 0.0;
+  if (!(leaf.hv > 0.0)) leaf.hv = 0.0;
   leaf.speed_u = b.u;
   leaf.speed_v = b.v;
   cells = std::ceil((leaf.u1 - leaf.u0) / leaf.hu) * std::ceil((leaf.v1 - leaf.v0) / leaf.hv);
@@ -366,8 +370,9 @@ void axis_plan(std::vector<double>& breaks, std::vector<double>& counts, double&
   for (const Leaf& l : leaves) {
     const double lo = in_u ? l.u0 : l.v0, hi = in_u ? l.u1 : l.v1;
     const double speed = in_u ? l.speed_u : l.speed_v;
-    const double hl = std::min(in_u ? l.hu : l.hv, speed > 0.0 ? surface_spacing / speed
-                                                               : std::numeric_limits<double>::infinity());
+    const double hl =
+        std::min(in_u ? l.hu : l.hv,
+                 speed > 0.0 ? surface_spacing / speed : std::numeric_limits<double>::infinity());
     const auto a = std::lower_bound(breaks.begin(), breaks.end(), lo) - breaks.begin();
     const auto b = std::lower_bound(breaks.begin(), breaks.end(), hi) - breaks.begin();
     for (auto k = a; k < b; ++k) h[k] = std::min(h[k], hl);
@@ -376,8 +381,14 @@ void axis_plan(std::vector<double>& breaks, std::vector<double>& counts, double&
   total = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
     const double width = breaks[k + 1] - breaks[k];
-    if (std::isfinite(h[k]) && h[k] > 0.0) counts[k] = std::max(1.0, std::ceil(width / h[k]));
-    else if (h[k] == 0.0) counts[k] = std::numeric_limits<double>::infinity();
+    // No leaf there: one cell. A zero or NaN spacing (a bound that overflowed) gives an
+    // infinite count, which the cap refuses.
+    if (h[k] == std::numeric_limits<double>::infinity())
+      counts[k] = 1.0;
+    else if (h[k] > 0.0)
+      counts[k] = std::max(1.0, std::ceil(width / h[k]));
+    else
+      counts[k] = std::numeric_limits<double>::infinity();
     total += counts[k];
   }
 }
@@ -504,8 +515,10 @@ void crossing(const Face& face, double u_in, double v_in, double u_out, double v
               double& v) {
   for (int k = 0; k < k_bisection_steps; ++k) {
     const double um = 0.5 * (u_in + u_out), vm = 0.5 * (v_in + v_out);
-    if (face.contains(um, vm)) u_in = um, v_in = vm;
-    else u_out = um, v_out = vm;
+    if (face.contains(um, vm))
+      u_in = um, v_in = vm;
+    else
+      u_out = um, v_out = vm;
   }
   u = u_in;
   v = v_in;
@@ -616,8 +629,10 @@ Face_plan plan_face(const Face& face, double D, std::size_t max_triangles) {
 
 std::string count_text(double n) {
   std::ostringstream os;
-  if (n < 1e15) os << static_cast<long long>(n);
-  else os << n;
+  if (n < 1e15)
+    os << static_cast<long long>(n);
+  else
+    os << n;
   return os.str();
 }
 
@@ -636,8 +651,13 @@ class Face_builder {
  public:
   Face_builder(const Face& face, int face_id, const Rigid_pose_3& placement,
                const Tessellation_options& options, Tessellation& out)
-      : m_face(face), m_s(face.surface), m_id(face_id), m_R(placement.rotation()),
-        m_t(placement.translation()), m_cap(options.max_triangles), m_out(out) {}
+      : m_face(face),
+        m_s(face.surface),
+        m_id(face_id),
+        m_R(placement.rotation()),
+        m_t(placement.translation()),
+        m_cap(options.max_triangles),
+        m_out(out) {}
 
   void build(const Face_plan& plan) {
     grid_lines(plan.u_breaks, plan.u_counts, m_us);
@@ -668,7 +688,8 @@ class Face_builder {
       const bool last_seam = i == m_nu && m_seam_u;
       int* cur = last_seam ? m_first.data() : (i % 2 ? m_row_a.data() : m_row_b.data());
       if (cur != m_first.data()) std::fill(cur, cur + width, -1);
-      int* vedge_cur = last_seam ? m_vedge_first.data() : (i % 2 ? m_vedge_a.data() : m_vedge_b.data());
+      int* vedge_cur =
+          last_seam ? m_vedge_first.data() : (i % 2 ? m_vedge_a.data() : m_vedge_b.data());
       if (vedge_cur != m_vedge_first.data()) std::fill(vedge_cur, vedge_cur + width, -1);
       std::fill(m_hedge.begin(), m_hedge.end(), -1);
       if (trimmed)
@@ -693,27 +714,18 @@ class Face_builder {
         const int n = cell_triangles(in, centre, tri);
         for (int t = 0; t < n; ++t) {
           double u[3], v[3];
+          for (int k = 0; k < 3; ++k) ref_uv(m_face, cu, cv, in, tri[t][k], u[k], v[k]);
+          if (!m_face.contains((u[0] + u[1] + u[2]) / 3.0, (v[0] + v[1] + v[2]) / 3.0)) continue;
           int idx[3];
           for (int k = 0; k < 3; ++k) {
             const int ref = tri[t][k];
-            if (ref < 4) {
-              u[k] = cu[ref];
-              v[k] = cv[ref];
-              idx[k] = -1 - ref;  // made below, once the triangle is kept
-            } else {
-              idx[k] = edge_vertex(ref - 4, i, j, in, cu, cv, prev, cur, vedge_prev, vedge_cur,
-                                   u[k], v[k]);
-            }
+            idx[k] = ref == 0   ? vertex(prev, i - 1, j - 1)
+                     : ref == 1 ? vertex(cur, i, j - 1)
+                     : ref == 2 ? vertex(cur, i, j)
+                     : ref == 3 ? vertex(prev, i - 1, j)
+                                : edge_vertex(ref - 4, i, j, prev, cur, vedge_prev, vedge_cur,
+                                              u[k], v[k]);
           }
-          if (!m_face.contains((u[0] + u[1] + u[2]) / 3.0, (v[0] + v[1] + v[2]) / 3.0)) continue;
-          for (int k = 0; k < 3; ++k)
-            if (idx[k] < 0) {
-              const int ref = -1 - idx[k];
-              idx[k] = ref == 0   ? vertex(prev, i - 1, j - 1)
-                       : ref == 1 ? vertex(cur, i, j - 1)
-                       : ref == 2 ? vertex(cur, i, j)
-                                  : vertex(prev, i - 1, j);
-            }
           triangle(idx[0], idx[1], idx[2], flip);
         }
       }
@@ -729,35 +741,29 @@ class Face_builder {
     return m_sp.p;
   }
 
-  // The vertex where the trim crosses edge e (0 ab, 1 bc, 2 cd, 3 da) of cell (i, j), shared
-  // with the cell across it; its (u, v) in u, v. An edge on a collapsed side is its pole.
-  int edge_vertex(int e, int i, int j, const bool in[4], const double (&cu)[4],
-                  const double (&cv)[4], int* prev, int* cur, int* vedge_prev, int* vedge_cur,
-                  double& u, double& v) {
+  // The vertex where the trim crosses edge e (0 ab, 1 bc, 2 cd, 3 da) of cell (i, j) at
+  // (u, v), shared with the cell across the edge; on a collapsed side, its pole.
+  int edge_vertex(int e, int i, int j, int* prev, int* cur, int* vedge_prev, int* vedge_cur,
+                  double u, double v) {
     int* slot;
-    int pole = -1;
     switch (e) {
       case 0:  // ab: v = v_{j-1}, shared with the cell below
+        if (j - 1 == 0 && m_pole_v0) return vertex(prev, i - 1, j - 1);
         slot = &m_hedge[j - 1];
-        if (j - 1 == 0 && m_pole_v0) pole = vertex(prev, i - 1, j - 1);
         break;
       case 1:  // bc: u = u_i, shared with the next row's cell
+        if (i == m_nu && m_pole_u1) return vertex(cur, i, j);
         slot = &vedge_cur[j];
-        if (i == m_nu && m_pole_u1) pole = vertex(cur, i, j);
         break;
       case 2:  // cd: v = v_j, shared with the cell above (across the seam for the last)
+        if (j == m_nv && m_pole_v1) return vertex(cur, i, j);
         slot = &m_hedge[(j == m_nv && m_seam_v) ? 0 : j];
-        if (j == m_nv && m_pole_v1) pole = vertex(cur, i, j);
         break;
       default:  // da: u = u_{i-1}, shared with the previous row's cell
+        if (i - 1 == 0 && m_pole_u0) return vertex(prev, i - 1, j);
         slot = &vedge_prev[j];
-        if (i - 1 == 0 && m_pole_u0) pole = vertex(prev, i - 1, j);
         break;
     }
-    const int e1 = (e + 1) % 4;
-    const int a = in[e] ? e : e1, b = in[e] ? e1 : e;
-    crossing(m_face, cu[a], cv[a], cu[b], cv[b], u, v);
-    if (pole >= 0) return pole;
     if (*slot < 0) *slot = new_vertex(u, v);
     return *slot;
   }
@@ -782,9 +788,11 @@ class Face_builder {
       return (point(u0, v0) - point(u1, v1)).norm() <= tol;
     };
     m_seam_u = m_nu > 1;
-    for (int j = 0; j <= m_nv && m_seam_u; ++j) m_seam_u = same(m_us[0], m_vs[j], m_us[m_nu], m_vs[j]);
+    for (int j = 0; j <= m_nv && m_seam_u; ++j)
+      m_seam_u = same(m_us[0], m_vs[j], m_us[m_nu], m_vs[j]);
     m_seam_v = m_nv > 1;
-    for (int i = 0; i <= m_nu && m_seam_v; ++i) m_seam_v = same(m_us[i], m_vs[0], m_us[i], m_vs[m_nv]);
+    for (int i = 0; i <= m_nu && m_seam_v; ++i)
+      m_seam_v = same(m_us[i], m_vs[0], m_us[i], m_vs[m_nv]);
     m_pole_u0 = m_pole_u1 = m_pole_v0 = m_pole_v1 = true;
     for (int j = 1; j <= m_nv; ++j) {
       m_pole_u0 = m_pole_u0 && same(m_us[0], m_vs[0], m_us[0], m_vs[j]);
@@ -800,11 +808,16 @@ class Face_builder {
   // The vertex of grid node (i, j), whose row's indices are `row`; made on first use.
   int vertex(int* row, int i, int j) {
     int* slot;
-    if (i == 0 && m_pole_u0) slot = &m_pole_index[0];
-    else if (i == m_nu && m_pole_u1) slot = &m_pole_index[1];
-    else if (j == 0 && m_pole_v0) slot = &m_pole_index[2];
-    else if (j == m_nv && m_pole_v1) slot = &m_pole_index[3];
-    else slot = &row[(j == m_nv && m_seam_v) ? 0 : j];
+    if (i == 0 && m_pole_u0)
+      slot = &m_pole_index[0];
+    else if (i == m_nu && m_pole_u1)
+      slot = &m_pole_index[1];
+    else if (j == 0 && m_pole_v0)
+      slot = &m_pole_index[2];
+    else if (j == m_nv && m_pole_v1)
+      slot = &m_pole_index[3];
+    else
+      slot = &row[(j == m_nv && m_seam_v) ? 0 : j];
     if (*slot < 0) *slot = new_vertex(m_us[i], m_vs[(j == m_nv && m_seam_v && !m_pole_v1) ? 0 : j]);
     return *slot;
   }
@@ -859,14 +872,15 @@ void tessellate(const Body& body, const Rigid_pose_3& placement, int body_index,
                 const Tessellation_options& options, Tessellation& out) {
   EXTREMAL_PRECONDITION_MSG(std::isfinite(options.deflection) && options.deflection > 0.0,
                             "deflection " << options.deflection << " must be finite and > 0");
-  EXTREMAL_PRECONDITION_MSG(options.max_triangles <= k_max_triangles_cap,
-                            "max_triangles " << options.max_triangles << " exceeds "
-                                             << k_max_triangles_cap);
+  EXTREMAL_PRECONDITION_MSG(
+      options.max_triangles <= k_max_triangles_cap,
+      "max_triangles " << options.max_triangles << " exceeds " << k_max_triangles_cap);
   // Plan every face first: a deflection far too fine for the cap stops here, before any
   // vertex is made.
   std::vector<Face_plan> plans;
   plans.reserve(body.faces.size());
-  double grid_triangles = static_cast<double>(out.mesh.triangles.size() + body.mesh.triangles.size());
+  double grid_triangles =
+      static_cast<double>(out.mesh.triangles.size() + body.mesh.triangles.size());
   for (const Face& face : body.faces) {
     plans.push_back(plan_face(face, options.deflection, options.max_triangles));
     grid_triangles += 2.0 * plans.back().cells_u * plans.back().cells_v;

@@ -29,7 +29,9 @@
 namespace extremal {
 namespace {
 
-std::string shared_data(const std::string& rel) { return std::string(EXTREMAL_SHARED_DATA) + "/" + rel; }
+std::string shared_data(const std::string& rel) {
+  return std::string(EXTREMAL_SHARED_DATA) + "/" + rel;
+}
 
 Tessellation tessellate_body(const Body& body, double deflection,
                              std::size_t max_triangles = 20'000'000) {
@@ -128,8 +130,8 @@ TEST(Tessellation, TorusVerticesOnTheSurfaceTrianglesWithinTheDeflection) {
   EXPECT_LE(within, D);
   EXPECT_GE(within, 0.1 * D);
   for (const auto& tri : t.mesh.triangles) {
-    const Vec3 c = X.inverse().apply_point(
-        (vertex(t, tri[0]) + vertex(t, tri[1]) + vertex(t, tri[2])) / 3.0);
+    const Vec3 c =
+        X.inverse().apply_point((vertex(t, tri[0]) + vertex(t, tri[1]) + vertex(t, tri[2])) / 3.0);
     const Vec3 ring = R * Vec3(c.x(), c.y(), 0).normalized();
     ASSERT_GT(X.inverse().apply_vector(triangle_normal(t, tri)).dot(c - ring), 0.0)
         << "inward triangle";
@@ -162,8 +164,9 @@ void check_real_part(const std::string& file, double relative, int& checked) {
   ASSERT_EQ(model.bodies.size(), 1u);
   const Body& body = model.bodies[0];
   const Bbox_3 box = body.trimmed_bbox(body.placement);
-  const double D = relative * std::sqrt(CGAL::squared_distance(Point_3(box.xmin(), box.ymin(), box.zmin()),
-                                                               Point_3(box.xmax(), box.ymax(), box.zmax())));
+  const double D =
+      relative * std::sqrt(CGAL::squared_distance(Point_3(box.xmin(), box.ymin(), box.zmin()),
+                                                  Point_3(box.xmax(), box.ymax(), box.zmax())));
   const Tessellation t = tessellate_body(body, D);
   ASSERT_GT(t.mesh.triangles.size(), 1000u) << file;
   const Mat3 R = body.placement.rotation();
@@ -196,7 +199,7 @@ void check_real_part(const std::string& file, double relative, int& checked) {
     };
     const Vec3 p[3] = {vertex(t, tri[0]), vertex(t, tri[1]), vertex(t, tri[2])};
     // The deviation of the triangle against the surface over the parameter triangle `q`.
-    auto deviation = [&](const std::array<double, 2> (&q)[3]) {
+    auto deviation = [&](const std::array<double, 2>(&q)[3]) {
       double e = 0.0;
       for (double a = 0.0; a <= 1.0; a += 0.25)
         for (double b = 0.0; a + b <= 1.0 + 1e-12; b += 0.25) {
@@ -253,7 +256,8 @@ TEST(Tessellation, TrimmedStepFaceKeepsNoTriangleOutsideItsTrim) {
     const Edge& e = full.edges.at(c.edge);
     return to_vec3(e.curve->point(e.t_min + s * (e.t_max - e.t_min)));
   };
-  const Vec3 centre = 0.5 * (edge_point(outer.curves.at(0), 0.0) + edge_point(outer.curves.at(1), 0.0));
+  const Vec3 centre =
+      0.5 * (edge_point(outer.curves.at(0), 0.0) + edge_point(outer.curves.at(1), 0.0));
   const double r_out = (edge_point(outer.curves[0], 0.3) - centre).norm();
   const double r_in = (edge_point(hole.curves.at(0), 0.3) - centre).norm();
   ASSERT_NEAR((edge_point(outer.curves[1], 0.7) - centre).norm(), r_out, 1e-9);
@@ -380,8 +384,8 @@ TEST(Tessellation, WrittenMeshesReadBackAsMeshBodies) {
   Body torus = make_torus_body(3.0, 1.0);
   torus.placement = Rigid_pose_3::from_quaternion(Vec3(10, 0, -4), 1, 0, 0, 0);
   const Tessellation t = tessellate_body(torus, 1e-2);
-  for (const char* name : {"tess_round_trip.stl", "tess_round_trip.ply", "tess_round_trip.obj",
-                           "tess_round_trip.STL"})
+  for (const char* name :
+       {"tess_round_trip.stl", "tess_round_trip.ply", "tess_round_trip.obj", "tess_round_trip.STL"})
     check_round_trip(t, name);
   // A real part of many faces (vertices repeated along its edges).
   const io::Model screw = io::read_model(shared_data("step/screw.step"));
@@ -418,9 +422,8 @@ TEST(Tessellation, WriterErrorsNameTheFileAndTheReason) {
 
 TEST(TessellateCli, WritesAMeshThatReadsBackAndSummarises) {
   const std::string out = (test::scratch_dir() / "cli_screw.stl").string();
-  const test::Cli_run r =
-      test::run_cli("tessellate " + shared_data("step/screw.step") + " -o " + out +
-                    " --deflection 2e-4 --relative");
+  const test::Cli_run r = test::run_cli("tessellate " + shared_data("step/screw.step") + " -o " +
+                                        out + " --deflection 2e-4 --relative");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* word : {"10 faces", "triangles", "vertices", "deflection", " s "})
     EXPECT_NE(r.err.find(word), std::string::npos) << word << " in " << r.err;
