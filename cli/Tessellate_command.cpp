@@ -108,7 +108,7 @@ int run_tessellate(const Tessellate_options& options) {
     std::cerr << os.str() << "\n";
     return 0;
   } catch (const Tessellation_too_large& e) {
-    std::cerr << who << options.target << ": at deflection " << deflection << ", " << e.what()
+    std::cerr << who << options.target << ": at deflection " << deflection << " mm, " << e.what()
               << " (--max-triangles " << options.max_triangles
               << "); use a larger --deflection or raise --max-triangles\n";
     return 1;

@@ -639,8 +639,9 @@ std::string count_text(double n) {
 [[noreturn]] void too_large(double triangles, std::size_t cap, bool estimated) {
   std::ostringstream os;
   if (estimated)
-    os << "the tessellation's grid has " << count_text(triangles) << " triangles, more than "
-       << k_grid_over_cap << " times the cap of " << cap << " triangles";
+    os << "the tessellation's grid has at least " << count_text(triangles)
+       << " triangles, more than " << k_grid_over_cap << " times the cap of " << cap
+       << " triangles";
   else
     os << "the tessellation has more than the cap of " << cap << " triangles";
   throw Tessellation_too_large(os.str(), triangles, estimated);

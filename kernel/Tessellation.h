@@ -54,8 +54,9 @@ struct Tessellation_options {
   std::size_t max_triangles = 20'000'000;
 };
 
-// The cap was exceeded. `triangles` is the grid's count when the plan alone exceeds the cap
-// many times over (nothing was built), otherwise the triangles kept when the cap was crossed.
+// The cap was exceeded. `triangles` is, when the plan alone exceeds the cap many times over
+// (estimated(): nothing was built), the grid triangles of the faces planned so far (a lower
+// bound on the whole grid's); otherwise the triangles kept when the cap was crossed.
 class Tessellation_too_large : public Invalid_input {
  public:
   Tessellation_too_large(const std::string& what, double triangles, bool estimated)
