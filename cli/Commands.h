@@ -2,6 +2,7 @@
 // 1 bad input, 2 usage error) and writes errors to stderr naming the file, path or argument.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,14 @@ struct Report_options {
   bool quiet = false;
 };
 int run_report(const Report_options& options);
+
+struct Tessellate_options {
+  std::string target;       // a file or a shape spec
+  std::string output;       // OUT.stl, OUT.ply or OUT.obj
+  double deflection = 0.0;  // 0: not given (relative 1e-3)
+  bool relative = false;    // deflection times the bounding-box diagonal
+  std::size_t max_triangles = 20'000'000;
+};
+int run_tessellate(const Tessellate_options& options);
 
 }  // namespace extremal::cli

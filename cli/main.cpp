@@ -1,4 +1,5 @@
-// The `extremal` command: batch distance reports, one-shot distances, file information.
+// The `extremal` command: batch distance reports, one-shot distances, file information,
+// tessellation.
 // Contract: docs/cli.md.
 #include <iostream>
 
@@ -68,6 +69,33 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   report_cmd->add_flag("--quiet", report.quiet, "No summary, no progress bar");
 
+  extremal::cli::Tessellate_options tessellate;
+  CLI::App* tessellate_cmd = app.add_subcommand(
+      "tessellate", "Triangle mesh of a CAD part within a chordal deviation, written as STL, PLY or OBJ");
+  tessellate_cmd->add_option("FILE", tessellate.target,
+                             "CAD/mesh file (STEP, IGES, BREP, OBJ, ...; every body) or shape spec")
+      ->required();
+  tessellate_cmd->add_option("-o,--output", tessellate.output,
+                             "OUT.stl (binary), OUT.ply (ASCII) or OUT.obj, by the extension")
+      ->required();
+  tessellate_cmd->add_option("--deflection", tessellate.deflection,
+                             "Largest distance from the mesh to the surface, in mm (default: "
+                             "1e-3 of the bounding-box diagonal)")
+      ->check(CLI::PositiveNumber);
+  tessellate_cmd->add_flag("--relative", tessellate.relative,
+                           "--deflection is a fraction of the bounding-box diagonal");
+  tessellate_cmd->add_option("--max-triangles", tessellate.max_triangles,
+                             "Fail (exit 1) rather than write more triangles (default 20000000)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000'000}));
+  tessellate_cmd->footer(
+      "Each face is sampled on a (u, v) grid fine enough that every point of every triangle is\n"
+      "within the deflection of the surface (a bound from the second derivatives per knot span).\n"
+      "Vertices are shared within a face only: the mesh is not watertight across faces. A trimmed\n"
+      "face's cells are clipped where the grid edges cross the trim, so its border is a polyline\n"
+      "through points of the trim (what is thinner than a cell is lost). A summary line goes to\n"
+      "stderr.\n"
+      "Exit codes: 0 success, 1 bad input or unwritable output (message on stderr), 2 usage error.");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -78,5 +106,6 @@ int main(int argc, char** argv) {
   if (info_cmd->parsed()) return extremal::cli::run_info(info);
   if (distance_cmd->parsed()) return extremal::cli::run_distance(distance);
   if (report_cmd->parsed()) return extremal::cli::run_report(report);
+  if (tessellate_cmd->parsed()) return extremal::cli::run_tessellate(tessellate);
   return 2;
 }
