@@ -115,6 +115,21 @@ TEST(MeshBvh, AMeshWhoseCornersRepeatPerTriangleIsWeldedAndClosed) {
   EXPECT_TRUE(h.inside(0.9 * v));
 }
 
+TEST(MeshBvh, HoldsUnder300BytesATriangleWithTheMesh) {
+  // The hierarchy (n - 1 boxes, corners, orders, adjacency, pseudo-normals) and the mesh
+  // itself, for a closed mesh of 10^5 triangles.
+  const Triangle_mesh m = torus_mesh(2.0, 0.6, 500, 100);
+  const Mesh_bvh h(m, "torus");
+  ASSERT_TRUE(h.closed());
+  const double n = static_cast<double>(m.triangles.size());
+  const double mesh_bytes = static_cast<double>(m.vertices.size() * sizeof(Point_3) +
+                                                m.triangles.size() * sizeof(m.triangles[0]));
+  const double per_triangle = (static_cast<double>(h.memory_bytes()) + mesh_bytes) / n;
+  std::printf("[ case     ] %.0f triangles: %.0f bytes a triangle\n", n, per_triangle);
+  EXPECT_LT(per_triangle, 300.0);
+  EXPECT_EQ(h.inner_count(), static_cast<int>(n) - 1);
+}
+
 TEST(MeshBvh, AnOpenOrInconsistentMeshIsNotClosedAndSaysWhere) {
   Triangle_mesh open = uv_sphere(1.0, 8, 4);
   open.triangles.pop_back();
