@@ -18,7 +18,8 @@
 //         entered by, c - h or -(c + h), c its centre's height over the plane, h its support
 //         along the plane's normal;
 //       convex: both bodies certified convex (is_certified_convex): the reference is the
-//         minimum translation distance, and the row must lie within its certified bounds;
+//         minimum translation distance, and the row must lie within its certified bounds; the
+//         same for two closed meshes, whose rows read their hulls' depth by definition;
 //       a sheet's plane: any other solid through a `plane` shape: the entry side's depth, the
 //         solid's support along the plane's normal (certified support bounds);
 //     the entry side is the side the solid was on (clear of the plane) when last apart, followed
@@ -46,6 +47,7 @@
 #include "algorithms/distance/Distance_hierarchy.h"
 #include "algorithms/distance/Penetration_depth.h"
 #include "algorithms/distance/Solid_classification.h"
+#include "algorithms/mesh/Mesh_bvh.h"
 #include "cli/Scene_run.h"
 #include "io/Model_reader.h"
 #include "io/Scene.h"
@@ -261,8 +263,10 @@ int verify(const Options& o, const std::string& path) {
   };
   std::vector<double> edge_tolerances;
   std::vector<Shape> shapes;
-  std::vector<bool> convex, closed;
+  std::vector<bool> convex, closed, closed_mesh;
   for (const Scene_body& b : scene.bodies) {
+    closed_mesh.push_back(!b.body.mesh.empty() && b.body.faces.empty() && b.body.curves.empty() &&
+                          Mesh_bvh(b.body.mesh, b.body.name).closed());
     edge_tolerances.push_back(edge_tolerance(b.body));
     shapes.push_back(shape_of(b));
     convex.push_back(is_certified_convex(b.body));
@@ -300,7 +304,9 @@ int verify(const Options& o, const std::string& path) {
           sa.axes[0] - sb.axes[0];
       return d;
     }
-    if (ref.depth_is_translation_distance) {
+    // Two closed meshes read their hulls' depth by definition (docs/behaviour.md, "Meshes"):
+    // the reference itself.
+    if (ref.depth_is_translation_distance || (closed_mesh[ia] && closed_mesh[ib])) {
       d.kind = Depth::Convex;
       d.value = ref.distance;
       d.lower = ref.lower_bound;
