@@ -115,8 +115,27 @@ double obb_lower_bound(const Obb& a, const Obb& b, const Mat3& R_AB, const Vec3&
 
 namespace {
 
+// The box of points [first, last) along orthonormal axes (the columns), inflated for the
+// rounding of the projections.
+Obb box_along(const Mat3& axes, const Vec3* first, const Vec3* last) {
+  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
+  const Mat3 to_box = axes.transpose();
+  for (const Vec3* p = first; p != last; ++p) {
+    const Vec3 q = to_box * *p;
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  Obb box;
+  box.axes = axes;
+  const Vec3 mid = 0.5 * (lo + hi);
+  box.centre = axes * mid;
+  const double scale = mid.norm() + (hi - lo).norm();
+  box.half = 0.5 * (hi - lo) + Vec3::Constant(k_box_rounding * scale);
+  return box;
+}
+
 // The box of the corners of leaf slots [begin, end) (3 a slot) along the axes of their
-// covariance, inflated for the rounding of the projections.
+// covariance.
 Obb fit_box(const Vec3* corners, int begin, int end) {
   const Vec3* first = corners + 3 * static_cast<std::size_t>(begin);
   const Vec3* last = corners + 3 * static_cast<std::size_t>(end);
@@ -146,20 +165,7 @@ Obb fit_box(const Vec3* corners, int begin, int end) {
     axes.col(1) = a1;
     axes.col(2) = a0.cross(a1);
   }
-  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
-  const Mat3 to_box = axes.transpose();
-  for (const Vec3* p = first; p != last; ++p) {
-    const Vec3 q = to_box * *p;
-    lo = lo.cwiseMin(q);
-    hi = hi.cwiseMax(q);
-  }
-  Obb box;
-  box.axes = axes;
-  const Vec3 mid = 0.5 * (lo + hi);
-  box.centre = axes * mid;
-  const double scale = mid.norm() + (hi - lo).norm();
-  box.half = 0.5 * (hi - lo) + Vec3::Constant(k_box_rounding * scale);
-  return box;
+  return box_along(axes, first, last);
 }
 
 // The box of a triangle along its longest edge, the edge's perpendicular in its plane, and its
@@ -180,20 +186,7 @@ Obb triangle_box(const Vec3* c) {
     axes.col(1) = a1;
     axes.col(2) = a0.cross(a1);
   }
-  const Mat3 to_box = axes.transpose();
-  Vec3 lo = to_box * c[0], hi = lo;
-  for (int e = 1; e < 3; ++e) {
-    const Vec3 q = to_box * c[e];
-    lo = lo.cwiseMin(q);
-    hi = hi.cwiseMax(q);
-  }
-  Obb box;
-  box.axes = axes;
-  const Vec3 mid = 0.5 * (lo + hi);
-  box.centre = axes * mid;
-  const double scale = mid.norm() + (hi - lo).norm();
-  box.half = 0.5 * (hi - lo) + Vec3::Constant(k_box_rounding * scale);
-  return box;
+  return box_along(axes, c, c + 3);
 }
 
 }  // namespace
