@@ -138,13 +138,29 @@ Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]) {
       r.point_b = pb;
     }
   };
-  double uv[2];
-  for (int k = 0; k < 3; ++k) {
-    const Vec3 qb = closest_on_triangle(a[k], b[0], b[1], b[2], uv);
-    offer((a[k] - qb).squaredNorm(), a[k], qb);
-    const Vec3 qa = closest_on_triangle(b[k], a[0], a[1], a[2], uv);
-    offer((b[k] - qa).squaredNorm(), qa, b[k]);
-  }
+  // A corner against the other triangle's face: only where its foot falls inside the face (a
+  // foot on the border is an edge's, which the edge pairs below cover).
+  auto corner_face = [&](const Vec3 t[3], const Vec3 o[3], bool t_is_a) {
+    const Vec3 e1 = o[1] - o[0], e2 = o[2] - o[0], n = e1.cross(e2);
+    const double nn = n.squaredNorm();
+    if (!(nn > 0.0)) return;  // (a degenerate face: its edges)
+    const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2);
+    const double denom = d00 * d11 - d01 * d01;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 v = t[k] - o[0];
+      const double d20 = v.dot(e1), d21 = v.dot(e2);
+      const double u = (d11 * d20 - d01 * d21) / denom, w = (d00 * d21 - d01 * d20) / denom;
+      if (!(u >= 0.0 && w >= 0.0 && u + w <= 1.0)) continue;
+      const double h = v.dot(n);
+      const Vec3 foot = t[k] - (h / nn) * n;
+      if (t_is_a)
+        offer(h * h / nn, t[k], foot);
+      else
+        offer(h * h / nn, foot, t[k]);
+    }
+  };
+  corner_face(a, b, true);
+  corner_face(b, a, false);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       Vec3 ca, cb;

@@ -23,6 +23,17 @@ double box_diagonal(const Bbox_3& b) {
                    (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
 }
 
+// How far the corners of o all lie beyond the plane of triangle t, on either side (0 where
+// they straddle it, or t is degenerate): a lower bound on the triangles' distance.
+double plane_gap(const Vec3* t, const Vec3* o) {
+  const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double len = n.norm();
+  if (!(len > 0.0)) return 0.0;
+  const double d0 = n.dot(o[0] - t[0]), d1 = n.dot(o[1] - t[0]), d2 = n.dot(o[2] - t[0]);
+  const double lo = std::min({d0, d1, d2}), hi = std::max({d0, d1, d2});
+  return std::max({0.0, lo / len, -hi / len});
+}
+
 // The point body as a box: its origin.
 const Obb& point_box() {
   static const Obb box;
@@ -81,7 +92,20 @@ double Mesh_front::measure_triangles(int slot_a, int slot_b) {
 double Mesh_front::bound(int a, int b, double enough) {
   // Two leaves (or a leaf and the point): their exact distance is the best bound, and costs
   // less than making and bounding the leaves' boxes.
-  if (Mesh_bvh::is_leaf(a) && (!m_b || Mesh_bvh::is_leaf(b))) return measure(a, b);
+  if (Mesh_bvh::is_leaf(a) && (!m_b || Mesh_bvh::is_leaf(b))) {
+    if (m_b && enough < HUGE_VAL) {
+      // The triangles' planes first: the other's corners all beyond one by at least `enough`
+      // bound the pair without measuring it.
+      const Vec3* ca = m_a.corners(Mesh_bvh::leaf_slot(a));
+      const Vec3* cb = m_b->corners(Mesh_bvh::leaf_slot(b));
+      Vec3 pb[3];
+      for (int k = 0; k < 3; ++k) pb[k] = m_R * cb[k] + m_t;
+      const double gap = std::max(plane_gap(ca, pb), plane_gap(pb, ca));
+      const double rounding = k_box_rounding * (ca[0].norm() + pb[0].norm() + gap);
+      if (gap - rounding >= enough) return gap - rounding;
+    }
+    return measure(a, b);
+  }
   return box_bound(a, b, enough);
 }
 
