@@ -33,6 +33,7 @@ struct Report_options {
   std::string snapshot;           // --snapshot OUT.glb
   double snapshot_time = 0.0;     // --at T
   int threads = 1;
+  int every = 1;                  // --every N: the rows of steps k % N == 0 and the last step
   bool quiet = false;
 };
 int run_report(const Report_options& options);

@@ -1,5 +1,5 @@
 // `extremal report SCENE.json... [-o OUT.csv|OUT.json] [--plot OUT.svg] [--snapshot OUT.glb
-// --at T] [--threads N] [--quiet]`: batch distance reports over time (docs/cli.md).
+// --at T] [--threads N] [--every N] [--quiet]`: batch distance reports over time (docs/cli.md).
 #include <unistd.h>
 
 #include <cmath>
@@ -88,7 +88,7 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
                             batch && out.report.empty() ? scene.path : std::string());
 
   const std::size_t n_pairs = scene.pairs.size();
-  Report_rows rows(scene, *writer);
+  Report_rows rows(scene, *writer, options.every);
   std::vector<Pair_series> series(out.plot.empty() ? 0 : n_pairs,
                                   Pair_series(scene.step_count()));
   const int snap_step = out.snapshot.empty() ? -1 : snapshot_step(scene, options.snapshot_time);
@@ -110,7 +110,8 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
   });
   progress.finish();
 
-  const std::vector<io::Pair_summary> result = rows.finish();
+  const Report_timing timing = report_timing(run.step_times_us());
+  const std::vector<io::Pair_summary> result = rows.finish(timing);
   if (file && !*file) throw Invalid_input(out.report + ": write failed");
   for (auto& s : series) s.finish();
   if (!out.plot.empty()) report_plot(scene, series, result).write(out.plot);
@@ -124,7 +125,7 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
   if (!out.snapshot.empty() && scene.time_of(snap_step) != options.snapshot_time)
     written += " (snapshot at the nearest step, t = " + short_number(scene.time_of(snap_step)) + ")";
   // With the rows on stdout the summary goes to stderr, so stdout stays one clean CSV.
-  print_summary(out.report.empty() ? std::cerr : std::cout, scene, written, result);
+  print_summary(out.report.empty() ? std::cerr : std::cout, scene, written, result, timing);
 }
 
 }  // namespace
@@ -137,6 +138,8 @@ int run_report(const Report_options& options) {
       throw Invalid_input("-o " + options.output + ": expected a file name ending in .csv or .json");
     if (options.threads < 1)
       throw Invalid_input("--threads " + std::to_string(options.threads) + ": must be at least 1");
+    if (options.every < 1)  // main() checks it (exit 2); this guards other callers
+      throw Invalid_input("--every " + std::to_string(options.every) + ": must be at least 1");
     // Every scene is read (and checked) before any runs: a typo in the last scene of a batch
     // costs nothing.
     std::vector<io::Scene> scenes;

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <set>
 
+#include "kernel/Error.h"
+
 namespace extremal::cli {
 
 std::vector<std::string> scene_tags(const std::vector<std::string>& scenes) {
@@ -24,18 +26,24 @@ std::string batch_path(const std::string& path, const std::string& tag, bool bat
   return (p.parent_path() / (p.stem().string() + "." + tag + p.extension().string())).string();
 }
 
-Report_rows::Report_rows(const io::Scene& scene, Report_writer& writer)
+Report_rows::Report_rows(const io::Scene& scene, Report_writer& writer, int every)
     : m_scene(scene),
       m_writer(writer),
+      m_every(every),
       m_summaries(scene.pairs.size()),
-      m_was_farther(scene.pairs.size(), false) {}
+      m_was_farther(scene.pairs.size(), false) {
+  EXTREMAL_PRECONDITION_MSG(every >= 1, "every must be >= 1, got " << every);
+}
 
 void Report_rows::add(double t, const std::vector<Pair_report>& reports) {
+  const bool written = m_step % m_every == 0 || m_step == m_scene.step_count() - 1;
+  ++m_step;
   for (std::size_t k = 0; k < m_summaries.size(); ++k) {
     const Pair_report& r = reports[k];
     const io::Clearance_state state = clearance_state(r.status);
     const bool farther = state == io::Clearance_state::Farther;
-    m_summaries[k].add(t, r.distance, state);
+    m_summaries[k].add(t, r.distance, state);  // every step, written or not
+    if (!written) continue;
     if (!(farther && m_was_farther[k])) {
       const auto& [a, b] = m_scene.pairs[k];
       m_writer.row(t, m_scene.bodies[a].name, m_scene.bodies[b].name, r);
@@ -44,11 +52,11 @@ void Report_rows::add(double t, const std::vector<Pair_report>& reports) {
   }
 }
 
-std::vector<io::Pair_summary> Report_rows::finish() {
+std::vector<io::Pair_summary> Report_rows::finish(const Report_timing& timing) {
   std::vector<io::Pair_summary> result;
   result.reserve(m_summaries.size());
   for (const auto& s : m_summaries) result.push_back(s.summary());
-  m_writer.finish(result);
+  m_writer.finish(result, timing);
   return result;
 }
 

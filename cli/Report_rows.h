@@ -8,6 +8,7 @@
 
 #include "algorithms/Body_pair_tracker.h"
 #include "cli/Report_writer.h"
+#include "cli/Step_times.h"
 #include "io/Pair_summary.h"
 #include "io/Scene.h"
 
@@ -21,21 +22,27 @@ std::vector<std::string> scene_tags(const std::vector<std::string>& scenes);
 std::string batch_path(const std::string& path, const std::string& tag, bool batch);
 
 // The rows of one scene's report. Each step's reports (one per scene pair, in the order of
-// scene.pairs) go to the pairs' summaries, and to the writer but for a pair's repeated farther
-// rows: a pair beyond the threshold is reported once when it goes there, not at every step.
+// scene.pairs) go to the pairs' summaries, every step. They go to the writer at the written
+// steps only: with `every` N, the steps k with k % N == 0 and the scene's last step (N = 1:
+// every step). Among the written steps a pair beyond the threshold is written once when it
+// goes there (at the first written step it is farther at), not at every step.
 class Report_rows {
  public:
-  // The scene and the writer must outlive this.
-  Report_rows(const io::Scene& scene, Report_writer& writer);
+  // The scene and the writer must outlive this; every >= 1.
+  Report_rows(const io::Scene& scene, Report_writer& writer, int every = 1);
+  // Steps come in order, one call each, scene.step_count() in all.
   void add(double t, const std::vector<Pair_report>& reports);
-  // After the last step: the summaries, one per scene pair, which the writer gets too.
-  std::vector<io::Pair_summary> finish();
+  // After the last step: the summaries, one per scene pair, which the writer gets too, with
+  // the run's step times.
+  std::vector<io::Pair_summary> finish(const Report_timing& timing);
 
  private:
   const io::Scene& m_scene;
   Report_writer& m_writer;
+  int m_every;
+  int m_step = 0;  // the index of the next step add() gets
   std::vector<io::Pair_summary_builder> m_summaries;
-  std::vector<bool> m_was_farther;
+  std::vector<bool> m_was_farther;  // at the last written step
 };
 
 }  // namespace extremal::cli

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "kernel/Error.h"
+
 namespace extremal::cli {
 
 namespace {
@@ -41,7 +43,9 @@ class Csv_writer final : public Report_writer {
     if (!m_scene.empty()) m_out << ',' << m_scene;
     m_out << '\n';
   }
-  void finish(const std::vector<io::Pair_summary>&) override { m_out.flush(); }
+  void finish(const std::vector<io::Pair_summary>&, const Report_timing&) override {
+    m_out.flush();
+  }
 
  private:
   std::ostream& m_out;
@@ -91,14 +95,18 @@ class Json_writer final : public Report_writer {
     m_out << (m_first ? "\n" : ",\n") << j.dump();
     m_first = false;
   }
-  void finish(const std::vector<io::Pair_summary>& summaries) override {
+  void finish(const std::vector<io::Pair_summary>& summaries,
+              const Report_timing& timing) override {
+    EXTREMAL_PRECONDITION(timing.pairs.size() == summaries.size());
     m_out << "\n],\n\"summary\": [";
     for (std::size_t k = 0; k < summaries.size(); ++k) {
       const auto& [a, b] = m_scene.pairs[k];
       m_out << (k ? ",\n" : "\n")
-            << summary_json(m_scene.bodies[a].name, m_scene.bodies[b].name, summaries[k]).dump();
+            << summary_json(m_scene.bodies[a].name, m_scene.bodies[b].name, summaries[k],
+                            timing.pairs[k])
+                   .dump();
     }
-    m_out << "\n]\n}\n";
+    m_out << "\n],\n\"step_time_us\": " << step_time_json(timing.scene).dump() << "\n}\n";
     m_out.flush();
   }
 
@@ -168,7 +176,7 @@ std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Sce
 }
 
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
-                            const io::Pair_summary& s) {
+                            const io::Pair_summary& s, const Step_time_stats& step_time) {
   nlohmann::json j = {{"body_a", body_a}, {"body_b", body_b}, {"rows", s.rows},
                       {"tracked_rows", s.tracked_rows}};
   j["min_distance"] = s.min_distance ? nlohmann::json(*s.min_distance) : nlohmann::json();
@@ -179,11 +187,13 @@ nlohmann::json summary_json(const std::string& body_a, const std::string& body_b
       s.deepest_penetration ? nlohmann::json(*s.deepest_penetration) : nlohmann::json();
   j["deepest_time"] = s.deepest_penetration ? nlohmann::json(s.deepest_time) : nlohmann::json();
   j["farther"] = intervals_json(s.farther);
+  j["step_time_us"] = step_time_json(step_time);
   return j;
 }
 
 void print_summary(std::ostream& out, const io::Scene& scene, const std::string& written_to,
-                   const std::vector<io::Pair_summary>& summaries) {
+                   const std::vector<io::Pair_summary>& summaries, const Report_timing& timing) {
+  EXTREMAL_PRECONDITION(timing.pairs.size() == summaries.size());
   out << scene.path << ": " << scene.bodies.size() << " bodies, " << scene.pairs.size()
       << " watched pair" << (scene.pairs.size() == 1 ? "" : "s") << ", " << scene.step_count()
       << " steps from t = " << short_number(scene.start) << " to "
@@ -191,13 +201,16 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
       << ")";
   if (!written_to.empty()) out << " -> " << written_to;
   out << "\n";
+  out << "  step time of the scene (its pairs' together): " << step_time_text(timing.scene) << "\n";
   for (std::size_t k = 0; k < summaries.size(); ++k) {
     const io::Pair_summary& s = summaries[k];
     const auto& [a, b] = scene.pairs[k];
     out << "  " << scene.bodies[a].name << " - " << scene.bodies[b].name << ": ";
+    const std::string step_time = "    step time: " + step_time_text(timing.pairs[k]) + "\n";
     if (!s.min_distance) {
       out << "farther than the threshold " << short_number(scene.threshold.value_or(0.0))
-          << " throughout\n";
+          << " throughout\n"
+          << step_time;
       continue;
     }
     out << "minimum clearance " << short_number(*s.min_distance) << " at t = "
@@ -212,6 +225,7 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
           << "\n";
     if (!s.farther.empty())
       out << "    farther than the threshold " << intervals_text(s.farther) << "\n";
+    out << step_time;
   }
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "algorithms/body_pair/Body_pair_tracker.h"
+#include "cli/Step_times.h"
 #include "io/Pair_summary.h"
 #include "io/Scene.h"
 
@@ -32,24 +33,27 @@ class Report_writer {
   virtual ~Report_writer() = default;
   virtual void row(double t, const std::string& body_a, const std::string& body_b,
                    const Pair_report& r) = 0;
-  // After the last row: the summaries, one per scene pair.
-  virtual void finish(const std::vector<io::Pair_summary>& summaries) = 0;
+  // After the last row: the summaries and step times, one per scene pair, and the scene's.
+  virtual void finish(const std::vector<io::Pair_summary>& summaries,
+                      const Report_timing& timing) = 0;
 };
 
 // CSV rows; the header first when `header`; a trailing scene column when `scene_column` is not
 // empty (its value on every row).
 std::unique_ptr<Report_writer> make_csv_writer(std::ostream& out, bool header,
                                                const std::string& scene_column);
-// One JSON object: the scene, its bodies and pairs, the rows, then the summaries.
+// One JSON object: the scene, its bodies and pairs, the rows, then the summaries (each with its
+// pair's "step_time_us") and the scene's "step_time_us".
 std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Scene& scene);
 
 // A summary as JSON: {"body_a", "body_b", "rows", "min_distance", "min_time", "contact":
-// [[start, end], ...], "penetration": [...], "deepest_penetration", "deepest_time", "farther"}.
+// [[start, end], ...], "penetration": [...], "deepest_penetration", "deepest_time", "farther",
+// "step_time_us": {"mean", "median", "p99", "max"}}.
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
-                            const io::Pair_summary& s);
+                            const io::Pair_summary& s, const Step_time_stats& step_time);
 
-// The readable summary of a scene run, a few lines per pair.
+// The readable summary of a scene run, a few lines per pair, with the step times.
 void print_summary(std::ostream& out, const io::Scene& scene, const std::string& written_to,
-                   const std::vector<io::Pair_summary>& summaries);
+                   const std::vector<io::Pair_summary>& summaries, const Report_timing& timing);
 
 }  // namespace extremal::cli

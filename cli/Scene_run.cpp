@@ -1,6 +1,7 @@
 #include "cli/Scene_run.h"
 
 #include <algorithm>
+#include <chrono>
 #include <memory>
 
 #include <tbb/blocked_range.h>
@@ -41,6 +42,8 @@ Scene_run::Scene_run(const io::Scene& scene, const Scene_run_options& options)
       throw Invalid_input(scene.path + ": pair " + A.name + " - " + B.name + ": " + e.what());
     }
   }
+  m_step_times_us.assign(scene.pairs.size(),
+                         std::vector<float>(static_cast<std::size_t>(scene.step_count())));
 }
 
 Scene_run::~Scene_run() = default;
@@ -49,6 +52,7 @@ void Scene_run::run(const Step_callback& on_step) {
   const io::Scene& scene = m_scene;
   const Scene_run_options& options = m_options;
   auto& steppers = m_steppers;
+  auto& step_times = m_step_times_us;
   const std::size_t n_pairs = scene.pairs.size();
   const int steps = scene.step_count();
   const int block = std::min(options.block_steps, steps);
@@ -61,7 +65,12 @@ void Scene_run::run(const Step_callback& on_step) {
       for (std::size_t k = k0; k < k1; ++k)
         for (int i = 0; i < count; ++i) {
           try {
+            // Only this pair's step is timed; each (k, step) slot is written by one thread.
+            const auto start = std::chrono::steady_clock::now();
             buffer[k][i] = steppers[k]->step(scene.time_of(first + i), scene.step).front();
+            const auto stop = std::chrono::steady_clock::now();
+            step_times[k][static_cast<std::size_t>(first + i)] =
+                std::chrono::duration<float, std::micro>(stop - start).count();
           } catch (const Invalid_input& e) {
             const auto& [a, b] = scene.pairs[k];
             throw Invalid_input(scene.path + ": pair " + scene.bodies[a].name + " - " +

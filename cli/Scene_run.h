@@ -39,10 +39,17 @@ class Scene_run {
   ~Scene_run();
   void run(const Step_callback& on_step);
 
+  // After run(): step_times_us()[k][i], the wall time of pair k's step i in microseconds,
+  // measured (steady_clock) around that pair's step only: its two bodies' poses and its
+  // tracker's step, on whichever thread ran it; handing the rows over is not in it.
+  const std::vector<std::vector<float>>& step_times_us() const { return m_step_times_us; }
+
  private:
   const io::Scene& m_scene;
   Scene_run_options m_options;
   std::vector<std::unique_ptr<Scene_stepper>> m_steppers;
+  // Sized to the scene's steps up front (4 bytes per pair and step): run() only stores.
+  std::vector<std::vector<float>> m_step_times_us;
 };
 
 }  // namespace extremal::cli

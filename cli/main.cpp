@@ -1,7 +1,9 @@
 // The `extremal` command: batch distance reports, one-shot distances, file information,
 // tessellation.
 // Contract: docs/cli.md.
+#include <exception>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -67,6 +69,21 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--threads", report.threads,
                          "Worker threads for the pairs (default 1; the rows do not depend on it)")
       ->check(CLI::PositiveNumber);
+  report_cmd->add_option("--every", report.every,
+                         "Write the rows of every N-th step only (steps k with k % N == 0, and "
+                         "the last step); the summary covers every step (default 1)")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            try {
+              std::size_t used = 0;
+              const long n = std::stol(value, &used);
+              if (used == value.size() && n >= 1 && n <= 100'000'000) return "";
+            } catch (const std::exception&) {
+            }
+            return "must be an integer from 1 to 100000000 (write every N-th step's rows), got '" +
+                   value + "'";
+          },
+          "N>=1"));
   report_cmd->add_flag("--quiet", report.quiet, "No summary, no progress bar");
 
   extremal::cli::Tessellate_options tessellate;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 
 #include "cli/Progress_bar.h"
 #include "cli/Report_plot.h"
+#include "cli/Step_times.h"
 #include "support/Cli_run.h"
 #include "kernel/Motion.h"
 
@@ -506,6 +508,179 @@ TEST(ReportCli, ThresholdReportsAFartherPairOnce) {
   EXPECT_EQ(s["rows"], 201);
   EXPECT_EQ(s["tracked_rows"], 201 - expected_farther);
   EXPECT_NEAR(s["min_distance"].get<double>(), 1.5, 1e-9);
+}
+
+// The four statistics of a step_time_us object: present, finite, >= 0, and in their order.
+// Timing decides nothing else.
+void expect_sane_step_times(const nlohmann::json& times, const std::string& what) {
+  ASSERT_TRUE(times.is_object()) << what;
+  EXPECT_EQ(times.size(), 4u) << what;
+  for (const char* key : {"mean", "median", "p99", "max"}) {
+    ASSERT_TRUE(times.contains(key) && times[key].is_number()) << what << " " << key;
+    const double x = times[key];
+    EXPECT_TRUE(std::isfinite(x) && x >= 0.0) << what << " " << key << " = " << x;
+  }
+  const double mean = times["mean"], median = times["median"], p99 = times["p99"],
+               max = times["max"];
+  EXPECT_LE(mean, max) << what;
+  EXPECT_LE(median, p99) << what;
+  EXPECT_LE(p99, max) << what;
+}
+
+TEST(ReportCli, StepTimeStatisticsAreNearestRank) {
+  using cli::step_time_stats;
+  const cli::Step_time_stats five = step_time_stats({5, 1, 4, 2, 3});
+  EXPECT_EQ(five.samples, 5u);
+  EXPECT_EQ(five.mean, 3.0);
+  EXPECT_EQ(five.median, 3.0);  // the ceil(2.5) = 3rd smallest
+  EXPECT_EQ(five.p99, 5.0);     // the ceil(4.95) = 5th
+  EXPECT_EQ(five.max, 5.0);
+  const cli::Step_time_stats four = step_time_stats({4, 3, 2, 1});
+  EXPECT_EQ(four.median, 2.0);  // the lower middle one: ceil(2) = 2nd
+  EXPECT_EQ(four.p99, 4.0);
+  std::vector<float> hundred;
+  for (int i = 100; i >= 1; --i) hundred.push_back(static_cast<float>(i));
+  const cli::Step_time_stats h = step_time_stats(hundred);
+  EXPECT_EQ(h.median, 50.0);
+  EXPECT_EQ(h.p99, 99.0);
+  EXPECT_EQ(h.max, 100.0);
+  EXPECT_EQ(h.mean, 50.5);
+  const cli::Step_time_stats one = step_time_stats({7});
+  EXPECT_EQ(one.median, 7.0);
+  EXPECT_EQ(one.p99, 7.0);
+  EXPECT_EQ(one.mean, 7.0);
+  EXPECT_EQ(step_time_stats({}).samples, 0u);
+  // The scene's step time is the sum of its pairs' at each step.
+  const cli::Report_timing timing = cli::report_timing({{1, 2, 3}, {10, 0, 30}});
+  ASSERT_EQ(timing.pairs.size(), 2u);
+  EXPECT_EQ(timing.pairs[1].median, 10.0);
+  EXPECT_EQ(timing.scene.max, 33.0);  // steps 11, 2, 33
+  EXPECT_EQ(timing.scene.median, 11.0);
+}
+
+// Three spheres: B goes beyond the threshold of A and comes back, C stays near A.
+const char* const every_scene = R"({
+    "time": {"start": 0, "end": 2, "step": 0.01},
+    "bodies": [
+      {"name": "A", "shape": {"type": "sphere", "radius": 1}},
+      {"name": "B", "shape": {"type": "sphere", "radius": 0.5},
+       "motion": {"type": "keyframes", "keyframes": [
+         {"t": 0, "position": [3, 0, 0]}, {"t": 1, "position": [13, 0, 0]},
+         {"t": 2, "position": [3, 0, 0]}]}},
+      {"name": "C", "shape": {"type": "sphere", "radius": 1}, "pose": {"position": [0, 4, 0]}}],
+    "threshold": 5})";
+
+TEST(ReportCli, JsonSummaryHasStepTimesPerPairAndForTheScene) {
+  const std::string scene = write_scene("extremal_step_times.json", every_scene);
+  const std::string json = temp_path("extremal_step_times.out.json");
+  const Cli_run r = run("report " + scene + " -o " + json + " --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(j["summary"].size(), 3u);
+  expect_sane_step_times(j["step_time_us"], "scene");
+  double sum_of_means = 0.0;
+  for (const auto& s : j["summary"]) {
+    const std::string pair = s["body_a"].get<std::string>() + " - " + s["body_b"].get<std::string>();
+    expect_sane_step_times(s["step_time_us"], pair);
+    sum_of_means += s["step_time_us"]["mean"].get<double>();
+    // A scene's step is its pairs' steps together: never shorter than one of them.
+    EXPECT_GE(j["step_time_us"]["max"].get<double>(), s["step_time_us"]["max"].get<double>());
+  }
+  EXPECT_NEAR(j["step_time_us"]["mean"].get<double>(), sum_of_means, 1e-4 * sum_of_means + 1e-9);
+  // The readable summary prints them: the scene's, and one line per pair.
+  EXPECT_NE(r.out.find("  step time of the scene (its pairs' together): mean "), std::string::npos)
+      << r.out;
+  std::size_t lines = 0;
+  for (std::size_t at = 0; (at = r.out.find("    step time: mean ", at)) != std::string::npos; ++at)
+    ++lines;
+  EXPECT_EQ(lines, 3u) << r.out;
+}
+
+TEST(ReportCli, EveryWritesTheRowsOfEveryNthStepAndTheLast) {
+  const std::string scene = write_scene("extremal_every.json", every_scene);
+  const Cli_run full = run("report " + scene + " --quiet");
+  const Cli_run every = run("report " + scene + " --quiet --every 3");
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  ASSERT_EQ(every.exit_code, 0) << every.err;
+  EXPECT_TRUE(run("report " + scene + " --quiet --every 1").out == full.out);  // byte for byte
+  EXPECT_TRUE(run("report " + scene + " --quiet --every 3 --threads 2").out == every.out);
+  // The rows by pair, as lines, in order.
+  auto by_pair = [](const std::string& csv) {
+    std::map<std::string, std::vector<std::string>> lines;
+    std::stringstream ss(csv);
+    std::string line;
+    std::getline(ss, line);  // the header
+    while (std::getline(ss, line)) {
+      const auto cells = parse_csv(line).at(0);
+      lines[cells.at(1) + " - " + cells.at(2)].push_back(line);
+    }
+    return lines;
+  };
+  const auto all = by_pair(full.out), some = by_pair(every.out);
+  ASSERT_EQ(all.size(), 3u);
+  ASSERT_EQ(some.size(), 3u);
+  // A - C is near throughout: a row at each of the 201 steps, 68 of them written with
+  // --every 3 (steps 0, 3, ..., 198 and the last, 200).
+  const std::vector<std::string>& near = all.at("A - C");
+  ASSERT_EQ(near.size(), 201u);
+  EXPECT_EQ(some.at("A - C").size(), 68u);
+  std::vector<std::string> times;  // each step's t as written
+  for (const auto& line : near) times.push_back(parse_csv(line)[0][0]);
+  for (const auto& [pair, lines] : all) {
+    std::map<std::string, std::string> at;  // t -> the full report's row
+    for (const auto& line : lines) at[parse_csv(line)[0][0]] = line;
+    // The expected rows: the full report's at the written steps, a farther pair once when it
+    // is farther at a written step and was not at the one before.
+    std::vector<std::string> expected;
+    bool was_farther = false;
+    std::size_t farther_rows = 0;
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      if (k % 3 != 0 && k != times.size() - 1) continue;
+      const auto it = at.find(times[k]);
+      const bool farther = it == at.end() || parse_csv(it->second)[0][15] == "farther";
+      if (!farther) expected.push_back(it->second);
+      else if (!was_farther) expected.push_back("farther at t = " + times[k]);
+      was_farther = farther;
+    }
+    const std::vector<std::string>& got = some.at(pair);
+    ASSERT_EQ(got.size(), expected.size()) << pair;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      const auto cells = parse_csv(got[i])[0];
+      if (cells[15] == "farther") {
+        ++farther_rows;
+        EXPECT_EQ("farther at t = " + cells[0], expected[i]) << pair;
+      } else {
+        EXPECT_EQ(got[i], expected[i]) << pair;
+      }
+    }
+    if (pair == "A - B") {
+      EXPECT_EQ(farther_rows, 1u);
+    }
+  }
+  // The summary covers every step: the same as --every 1's but for the step times.
+  const std::string json1 = temp_path("extremal_every1.json"), json3 = temp_path("extremal_every3.json");
+  ASSERT_EQ(run("report " + scene + " -o " + json1 + " --quiet").exit_code, 0);
+  ASSERT_EQ(run("report " + scene + " -o " + json3 + " --quiet --every 3").exit_code, 0);
+  auto j1 = nlohmann::json::parse(slurp(json1)), j3 = nlohmann::json::parse(slurp(json3));
+  for (auto* j : {&j1, &j3}) {
+    j->erase("step_time_us");
+    for (auto& s : (*j)["summary"]) s.erase("step_time_us");
+  }
+  EXPECT_EQ(j1["summary"], j3["summary"]);
+  EXPECT_EQ(j3["summary"][0]["rows"], 201);
+  EXPECT_EQ(j3["rows"].size(), parse_csv(every.out).size() - 1);  // the CSV's rows
+}
+
+TEST(ReportCli, EveryBelowOneIsAUsageError) {
+  const std::string scene = write_scene("extremal_every_bad.json", every_scene);
+  for (const char* n : {"0", "-3", "x", "1.5"}) {
+    const Cli_run r = run("report " + scene + " --quiet --every " + n);
+    EXPECT_EQ(r.exit_code, 2) << n;
+    EXPECT_NE(r.err.find("--every"), std::string::npos) << n << ": " << r.err;
+    EXPECT_EQ(r.out, "") << n;
+  }
+  const Cli_run r = run("report " + scene + " --quiet --every 0");
+  EXPECT_NE(r.err.find("must be an integer from 1"), std::string::npos) << r.err;
 }
 
 TEST(ReportCli, SeveralScenesRunAsABatch) {

@@ -49,8 +49,9 @@ io::Scene read(const std::string& path, const std::optional<std::string>& text,
   return io::read_scene(path, loader(files));
 }
 
-std::string report_json(const std::string& path, int threads) {
+std::string report_json(const std::string& path, int threads, int every) {
   if (threads < 1) throw Invalid_input("threads: must be at least 1, got " + std::to_string(threads));
+  if (every < 1) throw Invalid_input("every: must be at least 1, got " + std::to_string(every));
   py::gil_scoped_release release;
   const io::Scene scene = io::read_scene(path, io::load_bodies);
   cli::Scene_run_options options;
@@ -58,9 +59,9 @@ std::string report_json(const std::string& path, int threads) {
   cli::Scene_run run(scene, options);
   std::ostringstream out;
   const std::unique_ptr<cli::Report_writer> writer = cli::make_json_writer(out, scene);
-  cli::Report_rows rows(scene, *writer);
+  cli::Report_rows rows(scene, *writer, every);
   run.run([&](int, double t, const std::vector<Pair_report>& reports) { rows.add(t, reports); });
-  rows.finish();
+  rows.finish(cli::report_timing(run.step_times_us()));
   return out.str();
 }
 
@@ -83,6 +84,7 @@ Py_scene_outline read_outline(const std::string& path, const std::optional<std::
 // Fields of the rows of the pairs one task ran, pair-major: [pair][step] (and [component]).
 struct Pair_rows {
   std::vector<double> distance, point_a, point_b, normal, params;
+  std::vector<float> step_time_us;  // each pair's step times, microseconds (cli::Scene_run)
   std::vector<std::int32_t> face_a, face_b;
   std::vector<std::int8_t> status, degeneracy, solved;
 };
@@ -148,6 +150,9 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
         rows.solved[at] = r.solved ? 1 : 0;
       }
     });
+    // Pair-major as the rows: the client rebuilds the summaries' step times from them.
+    for (const std::vector<float>& times : run.step_times_us())
+      rows.step_time_us.insert(rows.step_time_us.end(), times.begin(), times.end());
   }
   const auto P = static_cast<py::ssize_t>(selected.size()), M = static_cast<py::ssize_t>(steps);
   py::dict out;
@@ -164,6 +169,7 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
   out["status"] = take_array(std::move(rows.status), {P, M});
   out["degeneracy"] = take_array(std::move(rows.degeneracy), {P, M});
   out["solved"] = take_array(std::move(rows.solved), {P, M});
+  out["step_time_us"] = take_array(std::move(rows.step_time_us), {P, M});
   return out;
 }
 
@@ -182,6 +188,7 @@ py::array_t<T, py::array::c_style> part_array(const py::dict& part, const char* 
 struct Part_view {
   std::size_t steps = 0;
   py::array_t<double, py::array::c_style> distance, point_a, point_b, normal, params;
+  py::array_t<float, py::array::c_style> step_time_us;
   py::array_t<std::int32_t, py::array::c_style> face_a, face_b;
   py::array_t<std::int8_t, py::array::c_style> status, degeneracy, solved;
 };
@@ -225,6 +232,7 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
     v.status = part_array<std::int8_t>(part, "status", p, steps, 1);
     v.degeneracy = part_array<std::int8_t>(part, "degeneracy", p, steps, 1);
     v.solved = part_array<std::int8_t>(part, "solved", p, steps, 1);
+    v.step_time_us = part_array<float>(part, "step_time_us", p, steps, 1);
     views.push_back(std::move(v));
   }
   for (std::size_t k = 0; k < n_pairs; ++k)
@@ -263,9 +271,17 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
       }
       rows.add(t, reports);
     }
-    const std::vector<io::Pair_summary> summaries = rows.finish();
+    // The step times the workers measured, pair by pair in scene order.
+    std::vector<std::vector<float>> step_times(n_pairs);
+    for (std::size_t k = 0; k < n_pairs; ++k) {
+      const float* first = views[static_cast<std::size_t>(where[k].first)].step_time_us.data() +
+                           where[k].second * steps;
+      step_times[k].assign(first, first + steps);
+    }
+    const cli::Report_timing timing = cli::report_timing(step_times);
+    const std::vector<io::Pair_summary> summaries = rows.finish(timing);
     if (!file) throw Invalid_input(output + ": write failed");
-    cli::print_summary(summary, scene, output, summaries);
+    cli::print_summary(summary, scene, output, summaries, timing);
   }
   return summary.str();
 }
@@ -274,7 +290,8 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
 
 void bind_report(py::module_& m) {
   m.def("_report_json", &report_json, py::arg("scene"), py::arg("threads") = 1,
-        "The JSON report `extremal report SCENE -o OUT.json` writes, as text.");
+        py::arg("every") = 1,
+        "The JSON report `extremal report SCENE -o OUT.json [--every N]` writes, as text.");
 
   py::class_<Py_scene_outline>(m, "SceneOutline", R"doc(
 A scene file read and checked as `extremal report` reads it (every key, body, file and pair),

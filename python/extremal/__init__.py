@@ -75,12 +75,16 @@ class Report:
     body_a, body_b, status, detail: lists of str, one per row.
     summary: dict keyed by (body_a, body_b), one per watched pair: rows, tracked_rows,
         min_distance, min_time, contact, penetration, farther (lists of {"start", "end"}),
-        deepest_penetration, deepest_time (None where the pair has none).
+        deepest_penetration, deepest_time (None where the pair has none), step_time_us
+        ({mean, median, p99, max}: the pair's step times in microseconds, nearest rank).
+    step_time_us: the scene's step times, {mean, median, p99, max} in microseconds (a step's
+        time is the sum of its pairs').
     scene, units, time ({start, end, step, steps}), bodies (list of {name, shape | file}),
     pairs (list of (body_a, body_b)).
 
     Rows are those of the command: a pair beyond the scene's threshold has one 'farther' row
-    when it goes there, then none until it comes back.
+    when it goes there, then none until it comes back; with every=N, the rows of the steps k
+    with k % N == 0 and of the last step only (the summary covers every step).
     """
 
     NUMERIC = ("t", "distance", "ax", "ay", "az", "bx", "by", "bz", "nx", "ny", "nz",
@@ -111,6 +115,7 @@ class Report:
         self.status = [r["status"] for r in rows]
         self.detail = [r["detail"] for r in rows]
         self.summary = {(s["body_a"], s["body_b"]): s for s in data["summary"]}
+        self.step_time_us = data["step_time_us"]
 
     def __len__(self):
         return len(self.status)
@@ -128,16 +133,19 @@ class Report:
         return f"<extremal.Report {self.scene!r}: {len(self)} rows, {len(self.pairs)} pairs>"
 
 
-def report(scene, threads=1):
+def report(scene, threads=1, every=1):
     """Runs a scene file (JSON, docs/cli.md) as `extremal report` does and returns its
     Report: the same rows and summary the command writes. threads: the pairs run on this many
-    threads (the rows do not depend on it). Raises extremal.InvalidInput naming the scene file
-    and the JSON path of a bad key, or the file that cannot be read. The GIL is released while
-    it runs."""
+    threads (the rows do not depend on it). every: as the command's --every, the rows of every
+    N-th step and of the last step only, an integer >= 1 (the summary covers every step).
+    Raises extremal.InvalidInput naming the scene file and the JSON path of a bad key, or the
+    file that cannot be read. The GIL is released while it runs."""
     try:
         path = _os.fspath(scene)
     except TypeError:
         path = None
     if not isinstance(path, str):
         raise InvalidInput(f"scene: expected a path (str or os.PathLike), got {type(scene).__name__}")
-    return Report(_json.loads(_core._report_json(path, threads)))
+    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+        raise InvalidInput(f"every: must be an integer >= 1, got {every!r}")
+    return Report(_json.loads(_core._report_json(path, threads, every)))

@@ -6,7 +6,8 @@
 
 writes the files `extremal report SCENES... -o OUT` writes, named as it names them (OUT itself
 for one scene; OUT.<stem>.<ext> for several, <k>-<stem> for every scene when two share a stem),
-the CSV byte for byte and the JSON equal. Without --scheduler it starts a local cluster of N
+the CSV byte for byte and the JSON equal but for its timing fields (step_time_us: the step times
+the workers measured, per pair and per scene, differ from run to run). Without --scheduler it starts a local cluster of N
 worker processes (default: one per CPU).
 
 How (run(), the same from Python): every scene is read and checked here first, as the command

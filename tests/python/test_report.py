@@ -5,6 +5,7 @@ import csv
 import json
 
 import numpy as np
+import pytest
 
 import extremal
 from conftest import SOURCE_DIR, write_scene
@@ -35,7 +36,13 @@ def test_the_demo_reads_as_the_command_writes_it(cli, tmp_path):
     assert rep.face_b.dtype == np.int64 and list(rep.face_b) == [r["face_b"] for r in rows]
     assert rep.body_b == [r["body_b"] for r in rows] and rep.status == [r["status"] for r in rows]
     assert rep.detail == [r["detail"] for r in rows]
-    assert rep.summary == {(s["body_a"], s["body_b"]): s for s in data["summary"]}
+    # The same summaries but for the step times, which differ from run to run.
+    def timeless(summary):
+        return {k: v for k, v in summary.items() if k != "step_time_us"}
+    assert {k: timeless(s) for k, s in rep.summary.items()} == \
+        {(s["body_a"], s["body_b"]): timeless(s) for s in data["summary"]}
+    for times in [rep.step_time_us] + [s["step_time_us"] for s in rep.summary.values()]:
+        assert 0 <= times["median"] <= times["p99"] <= times["max"] and times["mean"] <= times["max"]
     # README: A - bracket is in contact from t = 2.82 s and penetrates at most 0.080 mm.
     s = rep.summary[("A", "bracket")]
     assert s["contact"] and 2.7 < s["contact"][0]["start"] < 2.9
@@ -71,3 +78,25 @@ def test_a_pair_beyond_the_threshold_has_one_farther_row(cli, tmp_path):
     data = json.loads(command_report(cli, scene, tmp_path / "command.json").read_text())
     assert rep.status == [r["status"] for r in data["rows"]]
     np.testing.assert_array_equal(rep.distance, [r["distance"] for r in data["rows"]])
+
+
+def test_every_writes_every_nth_steps_rows_and_summarises_them_all(cli, tmp_path):
+    # 601 steps, every 7th: steps 0, 7, ..., 595 (86 of them) and the last, 600.
+    full = extremal.report(DEMO)
+    rep = extremal.report(DEMO, every=7)
+    steps = list(range(0, 601, 7)) + [600]
+    t = full.t[::2]  # two pairs a step, in scene order
+    np.testing.assert_array_equal(rep.t[::2], t[steps])
+    np.testing.assert_array_equal(rep.distance, full.distance.reshape(601, 2)[steps].ravel())
+
+    def timeless(summary):
+        return {k: {n: v for n, v in s.items() if n != "step_time_us"} for k, s in summary.items()}
+    assert timeless(rep.summary) == timeless(full.summary)
+    data = json.loads(command_report(cli, DEMO, tmp_path / "every.json").read_text())
+    assert len(data["rows"]) == len(full)
+    code, _, err = cli("report", DEMO, "-o", tmp_path / "every7.json", "--every", 7, "--quiet")
+    assert code == 0, err
+    assert [r["t"] for r in json.loads((tmp_path / "every7.json").read_text())["rows"]] == list(rep.t)
+    for bad in (0, -1, 1.5, True):
+        with pytest.raises(extremal.InvalidInput, match="every"):
+            extremal.report(DEMO, every=bad)
