@@ -152,7 +152,9 @@ void Mesh_front::descend(double lower, int a, int b, const Slack& slack) {
     const Item it = m_stack.back();
     m_stack.pop_back();
     const double need = m_best.distance - slack();
-    if (it.lower >= need) {
+    // (Compared as the key it would be stored as, so that what is pushed as cleared is
+    // settled when read back: test MeshPairs.TheCarriedFrontEqualsBruteForceAtEveryStepOfRandomMotions.)
+    if ((it.lower + m_sum) - m_sum >= need) {
       push(it.lower, it.a, it.b);
       continue;
     }
@@ -223,7 +225,7 @@ const Mesh_closest& Mesh_front::update(const Rigid_pose_3& X_AB, double closer, 
       const Entry e = m_heap.front();
       ++m_stats.opened;
       const double lower = bound(e.a, e.b, m_best.distance - slack());
-      if (clears(lower)) {  // bounded again at this pose, in place
+      if (clears((lower + m_sum) - m_sum)) {  // bounded again at this pose, in place (as a key)
         m_heap.front().key = lower + m_sum;
         sift_down();
         continue;
