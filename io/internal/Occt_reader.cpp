@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,7 +33,10 @@
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <Extrema_GenLocateExtPS.hxx>
+#include <Extrema_POnSurf.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <GeomAdaptor_Surface.hxx>
 #include <GeomConvert.hxx>
 #include <GeomConvert_ApproxSurface.hxx>
 #include <Geom2dConvert.hxx>
@@ -302,19 +306,68 @@ struct Session {
   }
 };
 
-// Largest distance from our surface, sampled inside the trim, to the source surface.
+// Sample grid of the deviation measurement: kDeviationIntervals intervals per direction (a
+// multiple of the former 8, whose grid it contains), one more such step per
+// kDeviationSpansPerStep knot spans up to kDeviationMaxIntervals, so every span holds samples.
+constexpr int kDeviationIntervals = 16;
+constexpr int kDeviationSpansPerStep = 4;
+constexpr int kDeviationMaxIntervals = 64;
+
+int deviation_intervals(const std::vector<double>& knots, double lo, double hi) {
+  int spans = 0;
+  for (std::size_t i = 1; i < knots.size(); ++i)
+    if (knots[i] > knots[i - 1] && knots[i - 1] >= lo && knots[i] <= hi) ++spans;
+  const int steps = std::clamp((spans + kDeviationSpansPerStep - 1) / kDeviationSpansPerStep, 1,
+                               kDeviationMaxIntervals / kDeviationIntervals);
+  return kDeviationIntervals * steps;
+}
+
+// Largest distance from our surface, sampled inside the trim, to the source surface. Each
+// sample's value is the distance from our point p = s(u, v) to a point of the source, so it is
+// an upper bound of p's distance to the source surface (to rounding, at least what a global
+// projection finds): the source at the same (u, v) (approximations keep the parametrisation,
+// so that point is already close), lowered by a local minimisation of the distance started
+// there (which also finds the foot point where the parametrisation differs, e.g. an offset
+// cylinder converted to a rational one); OpenCASCADE's global projection (a grid search per
+// point, the former cost of importing offset faces) only where that local search fails.
+// Between samples nothing is bounded: a certified margin needs a bound on the derivatives of
+// (ours - source), which OpenCASCADE's surfaces do not give, and the distance's Lipschitz
+// bound from our control net alone (|s_u| h_u / 2 + |s_v| h_v / 2) is orders of magnitude above
+// the deviations measured.
 double measure_deviation(const Face& f, const Handle(Geom_Surface)& source, double scale) {
   const Nurbs_surface_3& s = f.surface;
-  double worst = 0.0;
+  double su0, su1, sv0, sv1;
+  source->Bounds(su0, su1, sv0, sv1);
+  GeomAdaptor_Surface adaptor(source);
+  Extrema_GenLocateExtPS local(adaptor);
   GeomAPI_ProjectPointOnSurf proj;
-  for (int i = 0; i <= 8; ++i)
-    for (int j = 0; j <= 8; ++j) {
-      const double u = std::min(s.u_min() + (s.u_max() - s.u_min()) * i / 8.0, s.u_max());
-      const double v = std::min(s.v_min() + (s.v_max() - s.v_min()) * j / 8.0, s.v_max());
+  const int nu = deviation_intervals(s.knots_u(), s.u_min(), s.u_max());
+  const int nv = deviation_intervals(s.knots_v(), s.v_min(), s.v_max());
+  double worst = 0.0;
+  for (int i = 0; i <= nu; ++i)
+    for (int j = 0; j <= nv; ++j) {
+      const double u = std::min(s.u_min() + (s.u_max() - s.u_min()) * i / nu, s.u_max());
+      const double v = std::min(s.v_min() + (s.v_max() - s.v_min()) * j / nv, s.v_max());
       if (!f.contains(u, v)) continue;
-      const Point_3 p = s.point(u, v);
-      proj.Init(gp_Pnt(p.x() / scale, p.y() / scale, p.z() / scale), source);
-      if (proj.NbPoints() > 0) worst = std::max(worst, proj.LowerDistance() * scale);
+      const Point_3 q = s.point(u, v);
+      const gp_Pnt p(q.x() / scale, q.y() / scale, q.z() / scale);
+      const double u0 = std::clamp(u, su0, su1), v0 = std::clamp(v, sv0, sv1);
+      double d = std::numeric_limits<double>::infinity();
+      bool found = false;
+      try {  // an offset surface has no value where its basis has no normal
+        d = p.Distance(source->Value(u0, v0));
+        local.Perform(p, u0, v0, Standard_True);
+        if (local.IsDone()) {
+          d = std::min(d, p.Distance(local.Point().Value()));
+          found = true;
+        }
+      } catch (const Standard_Failure&) {
+      }
+      if (!found) {
+        proj.Init(p, source);
+        if (proj.NbPoints() > 0) d = std::min(d, proj.LowerDistance());
+      }
+      if (std::isfinite(d)) worst = std::max(worst, d * scale);
     }
   return worst;
 }
