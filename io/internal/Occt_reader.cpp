@@ -5,8 +5,10 @@
 // BRepBuilderAPI_NurbsConvert, which turns every surface and curve into a B-spline and recomputes
 // the parameter-space curves where the surface's parametrisation changed (cylinders, cones,
 // spheres and tori become rational B-splines whose parameter is not the angle), keeping edges
-// shared between faces. Then each face's B-spline surface, its wires' pcurves and the edges' 3D
-// curves are copied into kernel types. Anything that fails is reported, never dropped silently.
+// shared between faces; on B-spline faces the file's parameter-space curves are kept where they
+// still fit (Pcurve_keeping_modification). Then each face's B-spline surface, its wires' pcurves
+// and the edges' 3D curves are copied into kernel types. Anything that fails is reported, never
+// dropped silently.
 // Our headers (CGAL) first: OpenCASCADE defines a Handle(...) macro that breaks CGAL's Handle.
 #include "io/internal/Readers.h"
 #include "kernel/Error.h"
@@ -14,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -25,18 +28,27 @@
 #include <GProp_GProps.hxx>
 #include <Bnd_Box.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepTools_NurbsConvertModification.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <Extrema_GenLocateExtPS.hxx>
+#include <Extrema_POnSurf.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <GeomAdaptor_Surface.hxx>
 #include <GeomConvert.hxx>
 #include <GeomConvert_ApproxSurface.hxx>
 #include <Geom2dConvert.hxx>
 #include <Geom2d_BSplineCurve.hxx>
+#include <Geom2d_BezierCurve.hxx>
+#include <Geom2d_Line.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <Geom_Line.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_TrimmedCurve.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -294,19 +306,68 @@ struct Session {
   }
 };
 
-// Largest distance from our surface, sampled inside the trim, to the source surface.
+// Sample grid of the deviation measurement: kDeviationIntervals intervals per direction (a
+// multiple of the former 8, whose grid it contains), one more such step per
+// kDeviationSpansPerStep knot spans up to kDeviationMaxIntervals, so every span holds samples.
+constexpr int kDeviationIntervals = 16;
+constexpr int kDeviationSpansPerStep = 4;
+constexpr int kDeviationMaxIntervals = 64;
+
+int deviation_intervals(const std::vector<double>& knots, double lo, double hi) {
+  int spans = 0;
+  for (std::size_t i = 1; i < knots.size(); ++i)
+    if (knots[i] > knots[i - 1] && knots[i - 1] >= lo && knots[i] <= hi) ++spans;
+  const int steps = std::clamp((spans + kDeviationSpansPerStep - 1) / kDeviationSpansPerStep, 1,
+                               kDeviationMaxIntervals / kDeviationIntervals);
+  return kDeviationIntervals * steps;
+}
+
+// Largest distance from our surface, sampled inside the trim, to the source surface. Each
+// sample's value is the distance from our point p = s(u, v) to a point of the source, so it is
+// an upper bound of p's distance to the source surface (to rounding, at least what a global
+// projection finds): the source at the same (u, v) (approximations keep the parametrisation,
+// so that point is already close), lowered by a local minimisation of the distance started
+// there (which also finds the foot point where the parametrisation differs, e.g. an offset
+// cylinder converted to a rational one); OpenCASCADE's global projection (a grid search per
+// point, the former cost of importing offset faces) only where that local search fails.
+// Between samples nothing is bounded: a certified margin needs a bound on the derivatives of
+// (ours - source), which OpenCASCADE's surfaces do not give, and the distance's Lipschitz
+// bound from our control net alone (|s_u| h_u / 2 + |s_v| h_v / 2) is orders of magnitude above
+// the deviations measured.
 double measure_deviation(const Face& f, const Handle(Geom_Surface)& source, double scale) {
   const Nurbs_surface_3& s = f.surface;
-  double worst = 0.0;
+  double su0, su1, sv0, sv1;
+  source->Bounds(su0, su1, sv0, sv1);
+  GeomAdaptor_Surface adaptor(source);
+  Extrema_GenLocateExtPS local(adaptor);
   GeomAPI_ProjectPointOnSurf proj;
-  for (int i = 0; i <= 8; ++i)
-    for (int j = 0; j <= 8; ++j) {
-      const double u = std::min(s.u_min() + (s.u_max() - s.u_min()) * i / 8.0, s.u_max());
-      const double v = std::min(s.v_min() + (s.v_max() - s.v_min()) * j / 8.0, s.v_max());
+  const int nu = deviation_intervals(s.knots_u(), s.u_min(), s.u_max());
+  const int nv = deviation_intervals(s.knots_v(), s.v_min(), s.v_max());
+  double worst = 0.0;
+  for (int i = 0; i <= nu; ++i)
+    for (int j = 0; j <= nv; ++j) {
+      const double u = std::min(s.u_min() + (s.u_max() - s.u_min()) * i / nu, s.u_max());
+      const double v = std::min(s.v_min() + (s.v_max() - s.v_min()) * j / nv, s.v_max());
       if (!f.contains(u, v)) continue;
-      const Point_3 p = s.point(u, v);
-      proj.Init(gp_Pnt(p.x() / scale, p.y() / scale, p.z() / scale), source);
-      if (proj.NbPoints() > 0) worst = std::max(worst, proj.LowerDistance() * scale);
+      const Point_3 q = s.point(u, v);
+      const gp_Pnt p(q.x() / scale, q.y() / scale, q.z() / scale);
+      const double u0 = std::clamp(u, su0, su1), v0 = std::clamp(v, sv0, sv1);
+      double d = std::numeric_limits<double>::infinity();
+      bool found = false;
+      try {  // an offset surface has no value where its basis has no normal
+        d = p.Distance(source->Value(u0, v0));
+        local.Perform(p, u0, v0, Standard_True);
+        if (local.IsDone()) {
+          d = std::min(d, p.Distance(local.Point().Value()));
+          found = true;
+        }
+      } catch (const Standard_Failure&) {
+      }
+      if (!found) {
+        proj.Init(p, source);
+        if (proj.NbPoints() > 0) d = std::min(d, proj.LowerDistance());
+      }
+      if (std::isfinite(d)) worst = std::max(worst, d * scale);
     }
   return worst;
 }
@@ -334,15 +395,114 @@ Handle(Geom_BSplineSurface) bspline_of(const TopoDS_Face& face, double tol, bool
   return approx.Surface();
 }
 
+// OpenCASCADE's NURBS conversion, except for the curves on a face whose surface it keeps (B-spline
+// and Bezier surfaces are not converted): where the edge's 3D curve keeps its parameter through
+// the conversion too (lines, B-spline and Bezier curves, trimmed or not) and the face curve is a
+// line, B-spline or Bezier curve (whose B-spline form has the same parameter), the face curve is
+// kept as it is if, sampled, it lies on the 3D curve within the edge's tolerance. OpenCASCADE
+// instead re-projects the new 3D curve onto the unchanged surface and measures the result
+// (ProjLib_ComputeApproxOnPolarSurface, GeomLib_CheckCurveOnSurface): the bulk of the import
+// time on B-spline parts, for a curve that approximates the one kept. The kept curve has the
+// same surface, 3D curve and parameter as in the file, so the edge's tolerance stays as read
+// (convert_shape measures the gap again). Seams, degenerate edges, edges without a 3D curve,
+// face curves off their 3D curve and the faces OpenCASCADE converts go through its own code.
+// Samples of the face curve against the 3D curve before keeping it (a multiple of the 16
+// intervals of convert_shape's edge check, whose samples it contains).
+constexpr int kPcurveCheckIntervals = 32;
+
+class Pcurve_keeping_modification : public BRepTools_NurbsConvertModification {
+ public:
+  Standard_Boolean NewCurve2d(const TopoDS_Edge& e, const TopoDS_Face& f, const TopoDS_Edge& new_e,
+                              const TopoDS_Face& new_f, Handle(Geom2d_Curve)& c,
+                              Standard_Real& tol) override {
+    double first, last;
+    Handle(Geom2d_Curve) pc;
+    if (keeps_face_curves(f) && keeps_parametrisation(e, f, pc, first, last)) {
+      Handle(Geom2d_Curve) basis = pc;
+      while (auto t = Handle(Geom2d_TrimmedCurve)::DownCast(basis)) basis = t->BasisCurve();
+      if (basis->IsKind(STANDARD_TYPE(Geom2d_Line)))
+        c = Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(basis, first, last));
+      else
+        c = Handle(Geom2d_Curve)::DownCast(basis->Copy());
+      tol = BRep_Tool::Tolerance(e);
+      return Standard_True;
+    }
+    return BRepTools_NurbsConvertModification::NewCurve2d(e, f, new_e, new_f, c, tol);
+  }
+
+ private:
+  // A face keeps all its curves or none: kept and re-projected curves need not meet at their
+  // shared vertices within the trim band (they chain each among their own kind).
+  bool keeps_face_curves(const TopoDS_Face& f) {
+    const auto known = m_face_keeps.find(f.TShape().get());
+    if (known != m_face_keeps.end()) return known->second;
+    bool all = true;
+    const TopoDS_Face fwd = TopoDS::Face(f.Oriented(TopAbs_FORWARD));
+    for (TopExp_Explorer ex(fwd, TopAbs_EDGE); all && ex.More(); ex.Next()) {
+      Handle(Geom2d_Curve) pc;
+      double first, last;
+      all = keeps_parametrisation(TopoDS::Edge(ex.Current()), fwd, pc, first, last);
+    }
+    m_face_keeps[f.TShape().get()] = all;
+    return all;
+  }
+
+  std::map<const TopoDS_TShape*, bool> m_face_keeps;
+
+  static bool keeps_parametrisation(const TopoDS_Edge& e, const TopoDS_Face& f,
+                                    Handle(Geom2d_Curve)& pc, double& first, double& last) {
+    if (BRep_Tool::Degenerated(e) || BRepTools::IsReallyClosed(e, f)) return false;
+    const Handle(Geom_Surface) s = BRep_Tool::Surface(f);
+    if (s.IsNull() || (s->DynamicType() != STANDARD_TYPE(Geom_BSplineSurface) &&
+                       s->DynamicType() != STANDARD_TYPE(Geom_BezierSurface)))
+      return false;
+    double cf, cl;
+    Handle(Geom_Curve) c3 = BRep_Tool::Curve(e, cf, cl);
+    if (c3.IsNull()) return false;
+    while (auto t = Handle(Geom_TrimmedCurve)::DownCast(c3)) c3 = t->BasisCurve();
+    if (!c3->IsKind(STANDARD_TYPE(Geom_Line)) && !c3->IsKind(STANDARD_TYPE(Geom_BSplineCurve)) &&
+        !c3->IsKind(STANDARD_TYPE(Geom_BezierCurve)))
+      return false;
+    pc = BRep_Tool::CurveOnSurface(e, f, first, last);
+    if (pc.IsNull() || !(first < last)) return false;
+    Handle(Geom2d_Curve) basis = pc;
+    while (auto t = Handle(Geom2d_TrimmedCurve)::DownCast(basis)) basis = t->BasisCurve();
+    if (!basis->IsKind(STANDARD_TYPE(Geom2d_Line)) &&
+        !basis->IsKind(STANDARD_TYPE(Geom2d_BSplineCurve)) &&
+        !basis->IsKind(STANDARD_TYPE(Geom2d_BezierCurve)))
+      return false;
+    // The face curve must lie on the 3D curve within the edge's tolerance: face curves that
+    // OpenCASCADE made on reading (files without them) can stray further, and its projection
+    // does better there. Sampled at a superset of convert_shape's check of the same gap.
+    const double tol = BRep_Tool::Tolerance(e);
+    for (int k = 0; k <= kPcurveCheckIntervals; ++k) {
+      const double t = first + (last - first) * k / kPcurveCheckIntervals;
+      const gp_Pnt2d uv = pc->Value(t);
+      if (s->Value(uv.X(), uv.Y()).Distance(c3->Value(std::clamp(t, cf, cl))) > tol) return false;
+    }
+    return true;
+  }
+};
+
+// BRepBuilderAPI_NurbsConvert (its vertex tolerance correction included) with the modification
+// above.
+class Nurbs_convert : public BRepBuilderAPI_NurbsConvert {
+ public:
+  explicit Nurbs_convert(const TopoDS_Shape& shape) {
+    myModification = new Pcurve_keeping_modification();
+    Perform(shape, Standard_True);
+  }
+};
+
 // Converts one OCCT shape (a solid, a shell or a compound of faces) into a body. Faces that
 // cannot be converted are reported and left out; the body keeps the rest.
 Body convert_shape(const TopoDS_Shape& shape, Session& ss, const std::string& body_label) {
   Body body;
   const double scale = ss.scale;
   TopoDS_Shape converted;
-  std::unique_ptr<BRepBuilderAPI_NurbsConvert> whole;
+  std::unique_ptr<Nurbs_convert> whole;
   try {
-    whole = std::make_unique<BRepBuilderAPI_NurbsConvert>(shape, Standard_True);
+    whole = std::make_unique<Nurbs_convert>(shape);
     if (!whole->IsDone()) whole.reset();
   } catch (const Standard_Failure& e) {
     ss.model->warnings.push_back(body_label + ": B-spline conversion of the whole shape failed (" +
@@ -361,11 +521,11 @@ Body convert_shape(const TopoDS_Shape& shape, Session& ss, const std::string& bo
     try {
       const std::string kind = surface_kind(BRepAdaptor_Surface(src, Standard_False).GetType());
       TopoDS_Face nf;
-      std::unique_ptr<BRepBuilderAPI_NurbsConvert> single;
+      std::unique_ptr<Nurbs_convert> single;
       if (whole) {
         nf = TopoDS::Face(whole->ModifiedShape(src));
       } else {
-        single = std::make_unique<BRepBuilderAPI_NurbsConvert>(src, Standard_True);
+        single = std::make_unique<Nurbs_convert>(src);
         nf = TopoDS::Face(single->Shape());
       }
       nf.Orientation(src.Orientation());
