@@ -87,8 +87,8 @@ TEST(MeshBvh, BoxBoundsNeverExceedTheDistance) {
   // References: inner nodes and leaves alike.
   std::uniform_int_distribution<int> pick_a(-a.triangle_count(), a.inner_count() - 1);
   std::uniform_int_distribution<int> pick_b(-b.triangle_count(), b.inner_count() - 1);
-  int positive = 0;
-  for (int trial = 0; trial < 400; ++trial) {
+  int positive = 0, triangle_positive = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
     const Rigid_pose_3 X = random_pose(rng, 3.0);
     const int na = pick_a(rng), nb = pick_b(rng);
     const double bound = obb_lower_bound(a.box(na), b.box(nb), X.rotation(), X.translation());
@@ -104,8 +104,16 @@ TEST(MeshBvh, BoxBoundsNeverExceedTheDistance) {
       }
     ASSERT_LE(bound, least) << "trial " << trial;
     if (bound > 0.0) ++positive;
+    if (Mesh_bvh::is_leaf(na) && !Mesh_bvh::is_leaf(nb)) {  // a triangle against a box
+      const Obb& box = b.node(nb).box;
+      const double tri = triangle_box_lower_bound(a.corners(Mesh_bvh::leaf_slot(na)),
+                                                  X.apply_point(box.centre), X.rotation() * box.axes, box.half);
+      ASSERT_LE(tri, least) << "trial " << trial;
+      triangle_positive += tri > 0.0;
+    }
   }
   EXPECT_GT(positive, 100);  // the bounds do separate
+  EXPECT_GT(triangle_positive, 20);
 }
 
 TEST(MeshBvh, ClosestPointsAndInsidesMatchBruteForce) {

@@ -64,6 +64,43 @@ Mesh_point closest_on_triangle_feature(const Vec3& q, const Vec3& a, const Vec3&
 
 // ---- Box bounds ----------------------------------------------------------------------------
 
+double triangle_box_lower_bound(const Vec3 t[3], const Vec3& centre, const Mat3& axes,
+                                const Vec3& half, double enough) {
+  // (The rounding of the products: a few ulps of the lengths involved.)
+  const double rounding =
+      k_box_rounding * (centre.norm() + half.norm() + t[0].norm() + (t[1] - t[0]).norm() + (t[2] - t[0]).norm());
+  const double stop = enough + rounding;
+  double gap = 0.0;
+  // The box's axes: the corners' offsets from its centre in its frame.
+  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 q = axes.transpose() * (t[k] - centre);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  for (int i = 0; i < 3; ++i) gap = std::max({gap, lo[i] - half[i], -half[i] - hi[i]});
+  if (gap >= stop) return gap - rounding;
+  // The triangle's normal: its plane against the box's extent along it.
+  const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double len = n.norm();
+  if (len > 0.0) {
+    const double extent = (axes.transpose() * n).cwiseAbs().dot(half);
+    gap = std::max(gap, (std::abs(n.dot(centre - t[0])) - extent) / len);
+    if (gap >= stop) return gap - rounding;
+  }
+  // The line from the centroid to the box's centre.
+  const Vec3 d = centre - (t[0] + t[1] + t[2]) / 3.0;
+  const double dn = d.norm();
+  if (dn > 0.0) {
+    const Vec3 u = d / dn;
+    const double reach = std::max({u.dot(t[0]), u.dot(t[1]), u.dot(t[2])});
+    const double extent = (axes.transpose() * u).cwiseAbs().dot(half);
+    gap = std::max(gap, u.dot(centre) - extent - reach);
+  }
+  if (!(gap > 0.0)) return 0.0;
+  return std::max(0.0, gap - rounding);
+}
+
 
 double obb_lower_bound(const Obb& a, const Obb& b, const Mat3& R_AB, const Vec3& t_AB,
                        double enough) {

@@ -31,6 +31,13 @@ struct Obb {
 double obb_lower_bound(const Obb& a, const Obb& b, const Mat3& R, const Vec3& t,
                        double enough = HUGE_VAL);
 
+// A lower bound on the distance between triangle t and box b, both in one frame: the largest
+// gap of their projections on the box's axes, the triangle's normal and the line from the
+// triangle's centroid to the box's centre. 0 when they may meet. Stops early, with a bound at
+// least `enough`, once one axis gives that much.
+double triangle_box_lower_bound(const Vec3 t[3], const Vec3& centre, const Mat3& axes,
+                                const Vec3& half, double enough = HUGE_VAL);
+
 // Where on a triangle a closest point lies (its Voronoi feature): the face, an edge (0: p0 p1,
 // 1: p1 p2, 2: p2 p0) or a vertex (0, 1, 2).
 enum class Triangle_feature : unsigned char { Face, Edge, Vertex };

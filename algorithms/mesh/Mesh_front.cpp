@@ -49,9 +49,21 @@ Mesh_front::Mesh_front(const Mesh_bvh& a, const Mesh_bvh* b) : m_a(a), m_b(b) {
 
 double Mesh_front::box_bound(int a, int b, double enough) const {
   ++const_cast<Mesh_front_statistics&>(m_stats).box_bounds;
-  Obb leaf_a, leaf_b;  // (a leaf's box is made here)
-  const Obb& ba = Mesh_bvh::is_leaf(a) ? (leaf_a = m_a.box(a)) : m_a.node(a).box;
-  const Obb& bb = !m_b ? point_box() : Mesh_bvh::is_leaf(b) ? (leaf_b = m_b->box(b)) : m_b->node(b).box;
+  const bool leaf_a = Mesh_bvh::is_leaf(a), leaf_b = m_b && Mesh_bvh::is_leaf(b);
+  if (leaf_a && m_b && !leaf_b) {  // A's triangle against B's box, in A's frame
+    const Obb& box = m_b->node(b).box;
+    return triangle_box_lower_bound(m_a.corners(Mesh_bvh::leaf_slot(a)), m_R * box.centre + m_t,
+                                    m_R * box.axes, box.half, enough);
+  }
+  if (leaf_b && !leaf_a) {  // B's triangle, placed in A's frame, against A's box
+    const Vec3* c = m_b->corners(Mesh_bvh::leaf_slot(b));
+    const Vec3 t[3] = {m_R * c[0] + m_t, m_R * c[1] + m_t, m_R * c[2] + m_t};
+    const Obb& box = m_a.node(a).box;
+    return triangle_box_lower_bound(t, box.centre, box.axes, box.half, enough);
+  }
+  Obb leaf_box;  // (a leaf's box against the point is made here)
+  const Obb& ba = leaf_a ? (leaf_box = m_a.box(a)) : m_a.node(a).box;
+  const Obb& bb = !m_b ? point_box() : m_b->node(b).box;
   return obb_lower_bound(ba, bb, m_R, m_t, enough);
 }
 
