@@ -115,6 +115,11 @@ double Mesh_front::bound(int a, int b, double enough) {
       const double gap = std::max(plane_gap(ca, pb), plane_gap(pb, ca));
       const double rounding = k_box_rounding * (ca[0].norm() + pb[0].norm() + gap);
       if (gap - rounding >= enough) return gap - rounding;
+      // Then A's triangle against the box of B's.
+      const Obb box = m_b->box(b);
+      const double boxed =
+          triangle_box_lower_bound(ca, m_R * box.centre + m_t, m_R * box.axes, box.half, enough);
+      if (boxed >= enough) return boxed;
     }
     return measure(a, b);
   }
