@@ -67,39 +67,52 @@ double segment_segment_squared(const Vec3& p1, const Vec3& q1, const Vec3& p2, c
   return (c1 - c2).squaredNorm();
 }
 
-Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, double uv[2]) {
-  // Ericson 5.1.5: Voronoi regions of the vertices, edges and face.
+Triangle_point closest_on_triangle_region(const Vec3& q, const Vec3& a, const Vec3& b,
+                                          const Vec3& c) {
+  // Ericson, Real-Time Collision Detection 5.1.5: the Voronoi regions of vertices, edges, face.
+  Triangle_point r;
+  auto at = [&](const Vec3& p, double u, double v, Triangle_feature f, int k) {
+    r.point = p;
+    r.uv[0] = u;
+    r.uv[1] = v;
+    r.feature = f;
+    r.feature_index = k;
+    return r;
+  };
   const Vec3 ab = b - a, ac = c - a, ap = q - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) { uv[0] = 0; uv[1] = 0; return a; }
+  if (d1 <= 0.0 && d2 <= 0.0) return at(a, 0, 0, Triangle_feature::Vertex, 0);
   const Vec3 bp = q - b;
   const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) { uv[0] = 1; uv[1] = 0; return b; }
+  if (d3 >= 0.0 && d4 <= d3) return at(b, 1, 0, Triangle_feature::Vertex, 1);
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
     const double v = d1 / (d1 - d3);
-    uv[0] = v; uv[1] = 0;
-    return a + v * ab;
+    return at(a + v * ab, v, 0, Triangle_feature::Edge, 0);
   }
   const Vec3 cp = q - c;
   const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) { uv[0] = 0; uv[1] = 1; return c; }
+  if (d6 >= 0.0 && d5 <= d6) return at(c, 0, 1, Triangle_feature::Vertex, 2);
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
     const double w = d2 / (d2 - d6);
-    uv[0] = 0; uv[1] = w;
-    return a + w * ac;
+    return at(a + w * ac, 0, w, Triangle_feature::Edge, 2);
   }
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
     const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    uv[0] = 1.0 - w; uv[1] = w;
-    return b + w * (c - b);
+    return at(b + w * (c - b), 1.0 - w, w, Triangle_feature::Edge, 1);
   }
   const double denom = 1.0 / (va + vb + vc);
   const double v = vb * denom, w = vc * denom;
-  uv[0] = v; uv[1] = w;
-  return a + ab * v + ac * w;
+  return at(a + ab * v + ac * w, v, w, Triangle_feature::Face, 0);
+}
+
+Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, double uv[2]) {
+  const Triangle_point t = closest_on_triangle_region(q, a, b, c);
+  uv[0] = t.uv[0];
+  uv[1] = t.uv[1];
+  return t.point;
 }
 
 Triangle_closest triangle_distance(const Vec3 a[3], const Vec3 b[3]) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/distance/Triangle_distance.h"
 #include "kernel/Body.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"
@@ -37,10 +38,6 @@ double obb_lower_bound(const Obb& a, const Obb& b, const Mat3& R, const Vec3& t,
 // least `enough`, once one axis gives that much.
 double triangle_box_lower_bound(const Vec3 t[3], const Vec3& centre, const Mat3& axes,
                                 const Vec3& half, double enough = HUGE_VAL);
-
-// Where on a triangle a closest point lies (its Voronoi feature): the face, an edge (0: p0 p1,
-// 1: p1 p2, 2: p2 p0) or a vertex (0, 1, 2).
-enum class Triangle_feature : unsigned char { Face, Edge, Vertex };
 
 struct Mesh_point {
   double distance = HUGE_VAL;  // from the query point, >= 0
