@@ -20,7 +20,7 @@ def test_the_examples_run(tmp_path):
     try:
         with contextlib.redirect_stdout(printed):
             for block in blocks:
-                exec(compile(block.replace("../shared/data", str(SHARED_DATA)), "docs/python.md",
+                exec(compile(block.replace("<data>", str(SHARED_DATA)), "docs/python.md",
                              "exec"), namespace)
     finally:
         os.chdir(before)
