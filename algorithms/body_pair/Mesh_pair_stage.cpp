@@ -7,29 +7,9 @@
 #include "algorithms/distance/Penetration_depth.h"
 #include "algorithms/mesh/internal/Mesh_tuning.h"
 
-using extremal::internal::k_approach_rounding;
-
 namespace extremal::internal {
 
 namespace {
-
-// How much closer the relative motion from X0 to X1 (X_MO) can have brought any point of O's
-// box (body frame, a ball of centre c and radius r) to M: |(R1 - R0) p + t1 - t0| <=
-// |(R1 - R0) c + t1 - t0| + |R1 - R0| r, with |R1 - R0| = 2 sin(theta / 2) exactly (theta the
-// angle of R0^T R1: R0^T R1 - I is normal with eigenvalues 0 and e^(+-i theta) - 1). Distances
-// between rigid placements depend on the relative pose only. Rounding: a few ulps of the
-// lengths involved.
-double approach(const Bbox_3& box_o, const Rigid_pose_3& X0, const Rigid_pose_3& X1) {
-  const Vec3 c(0.5 * (box_o.xmin() + box_o.xmax()), 0.5 * (box_o.ymin() + box_o.ymax()),
-               0.5 * (box_o.zmin() + box_o.zmax()));
-  const double r = 0.5 * box_diagonal(box_o);
-  const Mat3 Q = X0.rotation().transpose() * X1.rotation();
-  const double cos_theta = std::clamp(0.5 * (Q.trace() - 1.0), -1.0, 1.0);
-  const double spin = std::sqrt(std::max(0.0, 2.0 - 2.0 * cos_theta));  // 2 sin(theta / 2)
-  const Vec3 moved = (X1.rotation() - X0.rotation()) * c + (X1.translation() - X0.translation());
-  const double size = c.norm() + r + X0.translation().norm() + X1.translation().norm();
-  return moved.norm() + spin * r + k_approach_rounding * size;
-}
 
 // A side this engine takes: a mesh without faces or curves, or a point.
 bool mesh_or_point(const Tracking_model& m) {
@@ -90,13 +70,11 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   const Rigid_pose_3& X_WM = m_swapped ? X_WB : X_WA;
   const Rigid_pose_3& X_WO = m_swapped ? X_WA : X_WB;
   const Rigid_pose_3 X_MO = X_WM.inverse() * X_WO;
-  const Tracking_model& O = m_swapped ? m_a : m_b;
   double closer = 0.0;
   if (m_started) {
-    // (Either side's displacement in the other's frame bounds it: the smaller.)
     const Tracking_model& M = m_swapped ? m_b : m_a;
-    closer = std::min(approach(O.box(), m_last, X_MO),
-                      approach(M.box(), m_last.inverse(), X_MO.inverse()));
+    const Tracking_model& O = m_swapped ? m_a : m_b;
+    closer = approach_bound(M.box(), O.box(), m_last, X_MO).closer;
   } else {
     m_front.reset();
   }
@@ -110,17 +88,10 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   r.distance = c.distance;
   r.point_a = m_swapped ? on_o : on_m;
   r.point_b = m_swapped ? on_m : on_o;
-  const int tri_m = c.triangle_a, tri_o = c.triangle_b;
-  r.feature_a = m_swapped ? (m_other ? tri_o : 0) : tri_m;
-  r.feature_b = m_swapped ? tri_m : (m_other ? tri_o : 0);
-  r.params.setZero();
-  if (m_swapped) {  // a point's witness has no parameters: the mesh's come first
-    r.params << c.uv_a[0], c.uv_a[1], 0.0, 0.0;
-  } else if (m_other) {
-    r.params << c.uv_a[0], c.uv_a[1], c.uv_b[0], c.uv_b[1];
-  } else {
-    r.params << c.uv_a[0], c.uv_a[1], 0.0, 0.0;
-  }
+  // A point's feature is 0 and its witness has no parameters (swapped: A is the point).
+  r.feature_a = m_swapped ? 0 : c.triangle_a;
+  r.feature_b = m_swapped ? c.triangle_a : (m_other ? c.triangle_b : 0);
+  r.params << c.uv_a[0], c.uv_a[1], m_other ? c.uv_b[0] : 0.0, m_other ? c.uv_b[1] : 0.0;
   r.edge_a = r.edge_b = -1;
   r.degeneracy = Degeneracy::None;
   r.solved = false;

@@ -92,7 +92,7 @@ class Tracking_model {
   int primitive_of(Element_kind kind, int index) const;
   // Box of the whole body, body frame.
   const Bbox_3& box() const { return m_box; }
-  bool has_mesh() const { return m_has_mesh; }
+  bool has_mesh() const { return m_mesh != nullptr; }
   // Whether the body encloses a volume (body_closedness: a closed shell or mesh), decided once.
   bool closed() const { return m_closed; }
   // Number of patch sides matched geometrically (multi-patch bodies without B-rep).
@@ -148,7 +148,6 @@ class Tracking_model {
   };
   std::vector<Node> m_tree;
   Bbox_3 m_box;
-  bool m_has_mesh = false;
   bool m_closed = false;
   int m_matched_sides = 0;
 };

@@ -17,12 +17,6 @@ using internal::k_key_rounding;
 
 namespace {
 
-double box_diagonal(const Bbox_3& b) {
-  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
-                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
-                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
-}
-
 // How far the corners of o all lie beyond the plane of triangle t, on either side (0 where
 // they straddle it, or t is degenerate): a lower bound on the triangles' distance.
 double plane_gap(const Vec3* t, const Vec3* o) {
@@ -102,8 +96,8 @@ double Mesh_front::measure_triangles(int slot_a, int slot_b) {
 }
 
 double Mesh_front::bound(int a, int b, double enough) {
-  // Two leaves (or a leaf and the point): their exact distance is the best bound, and costs
-  // less than making and bounding the leaves' boxes.
+  // Two leaves (or a leaf and the point): cheap bounds first (the planes, then a triangle
+  // against the other's box), the exact distance where they do not reach `enough`.
   if (Mesh_bvh::is_leaf(a) && (!m_b || Mesh_bvh::is_leaf(b))) {
     if (m_b && enough < HUGE_VAL) {
       // The triangles' planes first: the other's corners all beyond one by at least `enough`
@@ -127,7 +121,6 @@ double Mesh_front::bound(int a, int b, double enough) {
 }
 
 double Mesh_front::measure(int a, int b) {
-  ++m_stats.leaf_pairs;
   return measure_triangles(Mesh_bvh::leaf_slot(a), m_b ? Mesh_bvh::leaf_slot(b) : -1);
 }
 

@@ -32,7 +32,6 @@ struct Mesh_front_statistics {
   long steps = 0;
   long opened = 0;       // entries taken from the front
   long box_bounds = 0;   // box pairs bounded
-  long leaf_pairs = 0;   // pairs of leaves measured
   long triangle_pairs = 0;
   long rebuilds = 0;       // made anew from the roots after growing
   long cost_restarts = 0;  // steps whose carried front cost more than the roots' traversal
@@ -50,9 +49,6 @@ class Mesh_front {
   const Mesh_closest& update(const Rigid_pose_3& X_AB, double closer, double tolerance);
   // Starts again from the roots at the next update.
   void reset() { m_started = false; }
-  // Drops the front but keeps the best pair: the next update traverses from the roots, pruned
-  // against that pair's distance at its pose.
-  void restart_from_roots() { m_restart = true; }
 
   const Mesh_closest& closest() const { return m_best; }
   std::size_t size() const { return m_heap.size(); }
