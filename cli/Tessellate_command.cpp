@@ -30,13 +30,13 @@ int run_tessellate(const Tessellate_options& options) {
   const char* const who = "extremal tessellate: ";
   const auto t0 = std::chrono::steady_clock::now();
   double deflection = 0.0;
+  std::string unit = "mm";  // the file's, once read (messages name it)
   try {
     // The output is checked first, before any long work.
     io::mesh_file_format(options.output);
     io::check_writable(options.output);
 
     std::vector<Body> bodies;
-    std::string unit = "mm";
     std::size_t skipped = 0;
     if (io::is_shape_spec(options.target)) {
       bodies.push_back(io::parse_shape_spec(options.target));
@@ -62,9 +62,7 @@ int run_tessellate(const Tessellate_options& options) {
       Bbox_3 box;
       for (const Body& b : bodies)
         if (!b.faces.empty() || !b.mesh.empty()) box += b.trimmed_bbox(b.placement);
-      diagonal = std::sqrt((box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
-                           (box.ymax() - box.ymin()) * (box.ymax() - box.ymin()) +
-                           (box.zmax() - box.zmin()) * (box.zmax() - box.zmin()));
+      diagonal = box_diagonal(box);
     }
     deflection = relative ? fraction * diagonal : fraction;
     if (!(std::isfinite(deflection) && deflection > 0.0)) {
@@ -108,7 +106,7 @@ int run_tessellate(const Tessellate_options& options) {
     std::cerr << os.str() << "\n";
     return 0;
   } catch (const Tessellation_too_large& e) {
-    std::cerr << who << options.target << ": at deflection " << deflection << " mm, " << e.what()
+    std::cerr << who << options.target << ": at deflection " << deflection << " " << unit << ", " << e.what()
               << " (--max-triangles " << options.max_triangles
               << "); use a larger --deflection or raise --max-triangles\n";
     return 1;

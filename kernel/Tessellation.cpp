@@ -442,9 +442,7 @@ double face_size(const Face& face, const Clip& box) {
       if (face.contains(u, v)) inside += b;
     }
   const Bbox_3& b = inside.xmin() <= inside.xmax() ? inside : all;
-  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
-                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
-                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
+  return box_diagonal(b);
 }
 
 void grid_lines(const std::vector<double>& breaks, const std::vector<double>& counts,
@@ -784,7 +782,8 @@ class Face_builder {
     double size = 0.0;
     for (int k = 0; k < 3; ++k)
       size = std::max({size, box.max(k) - box.min(k), std::abs(box.max(k)), std::abs(box.min(k))});
-    const double tol = k_weld_relative * size;
+    // (The points compared are placed: their rounding grows with the placement's offset too.)
+    const double tol = k_weld_relative * (size + m_t.norm());
     auto same = [&](double u0, double v0, double u1, double v1) {
       return (point(u0, v0) - point(u1, v1)).norm() <= tol;
     };

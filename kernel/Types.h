@@ -40,6 +40,13 @@ inline Vec3 box_centre(const Bbox_3& b) {
   return Vec3(0.5 * (b.xmin() + b.xmax()), 0.5 * (b.ymin() + b.ymax()), 0.5 * (b.zmin() + b.zmax()));
 }
 
+// Length of a box's diagonal.
+inline double box_diagonal(const Bbox_3& b) {
+  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
+                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
+                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
+}
+
 // Largest n.x over a box: its support function (n in the box's frame).
 inline double box_support(const Bbox_3& b, const Vec3& n) {
   const Vec3 c = box_centre(b);

@@ -15,12 +15,6 @@ namespace extremal {
 
 namespace {
 
-double diagonal(const Bbox_3& b) {
-  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
-                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
-                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
-}
-
 bool overlaps(const Bbox_3& a, const Bbox_3& b) {
   for (int i = 0; i < 3; ++i)
     if (a.max(i) < b.min(i) || b.max(i) < a.min(i)) return false;
@@ -184,7 +178,6 @@ Tracking_model::Tracking_model(const Body& body) : m_body(body) {
     // them (a mesh against a NURBS body), so meshes against meshes and points cost only these.
     m_mesh = std::make_unique<Mesh_bvh>(body.mesh, body.name);
     m_box = m_mesh->box();
-    m_has_mesh = true;
     m_closed = m_mesh->closed();
     return;
   }
@@ -300,7 +293,6 @@ void Tracking_model::link_faces_to_edges(std::vector<std::pair<int, int>>& face_
 void Tracking_model::add_mesh() {
   const Triangle_mesh& mesh = m_body.mesh;
   if (mesh.empty()) return;
-  m_has_mesh = true;
   const int nv = static_cast<int>(mesh.vertices.size());
   m_triangle_primitive.assign(mesh.triangles.size(), -1);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -395,7 +387,7 @@ void Tracking_model::match_patch_sides() {
   std::vector<Side_box> sides;
   double size = 0.0;
   for (const Primitive& p : m_primitives)
-    if (p.kind == Primitive_kind::Face) size = std::max(size, diagonal(p.box));
+    if (p.kind == Primitive_kind::Face) size = std::max(size, box_diagonal(p.box));
   const double tol = 1e-7 * std::max(size, 1e-300);
   Surface_point sp;
   for (std::size_t i = 0; i < m_primitives.size(); ++i) {
@@ -581,7 +573,7 @@ bool Tracking_model::map_across_side(int f, int side, const double* params, doub
   const int nside = p.side_neighbour_side[side];
   double dist;
   const double s = project_on_side(g, nside, sp.p, dist);
-  if (!(dist <= 1e-6 * std::max(diagonal(m_box), 1e-300))) return false;
+  if (!(dist <= 1e-6 * std::max(box_diagonal(m_box), 1e-300))) return false;
   side_params(g, nside, s, out);
   return true;
 }
@@ -596,7 +588,7 @@ int Tracking_model::nearest_edge(int f, const Vec3& p, double& t, const Vec3* to
   // first could hand the point to an edge along which the distance rises, whose face then
   // hands it straight back (a face-edge ping-pong at every step). Edges within `tie` of the
   // nearest are told apart by the slope of the squared distance to `toward` along them.
-  const double tie = 1e-7 * diagonal(m_box);
+  const double tie = 1e-7 * box_diagonal(m_box);
   double best_slope = HUGE_VAL;
   for (int k = 0; k < count; ++k) {
     const Nurbs_curve_3& c = *m_primitives[edges[k]].feature.curve();

@@ -4,21 +4,11 @@
 
 namespace extremal {
 
-namespace {
-
-double diagonal(const Bbox_3& b) {
-  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
-                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
-                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
-}
-
-}  // namespace
-
 Feature::Feature(Kind k, const Nurbs_curve_3* c, const Nurbs_surface_3* s, const Vec3& p)
     : m_kind(k), m_curve(c), m_surface(s), m_point(p) {
-  if (c) m_size = diagonal(c->hull_bbox());
+  if (c) m_size = box_diagonal(c->hull_bbox());
   if (!s) return;
-  m_size = diagonal(s->hull_bbox());
+  m_size = box_diagonal(s->hull_bbox());
   const double tol = 1e-12 * m_size;
   const int nu = s->number_of_poles_u(), nv = s->number_of_poles_v();
   auto collapsed = [&](bool along_v, int fixed) {

@@ -15,11 +15,7 @@
 
 namespace extremal::internal {
 
-inline double box_diagonal(const Bbox_3& b) {
-  return std::sqrt((b.xmax() - b.xmin()) * (b.xmax() - b.xmin()) +
-                   (b.ymax() - b.ymin()) * (b.ymax() - b.ymin()) +
-                   (b.zmax() - b.zmin()) * (b.zmax() - b.zmin()));
-}
+using extremal::box_diagonal;
 
 inline Bbox_3 inflate(const Bbox_3& b, double r) {
   return Bbox_3(b.xmin() - r, b.ymin() - r, b.zmin() - r, b.xmax() + r, b.ymax() + r, b.zmax() + r);
