@@ -64,7 +64,12 @@ TEST(TriangleDistance, EqualsTheLeastOverCornersToTrianglesAndEdgePairs) {
         Vec3 x, y;
         least = std::min(least, std::sqrt(segment_segment_squared(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], x, y)));
       }
-    if (c.distance == 0.0) continue;  // crossing: the closed-form test's
+    if (c.distance == 0.0) {  // crossing: the common point lies on both
+      double uv2[2];
+      ASSERT_LT((c.point_a - closest_on_triangle(c.point_a, a[0], a[1], a[2], uv2)).norm(), 1e-12);
+      ASSERT_LT((c.point_a - closest_on_triangle(c.point_a, b[0], b[1], b[2], uv2)).norm(), 1e-12);
+      continue;
+    }
     ASSERT_NEAR(c.distance, least, 1e-14) << "trial " << trial;
     ASSERT_NEAR((c.point_b - c.point_a).norm(), c.distance, 1e-14) << "trial " << trial;
     near += c.distance < 0.05;

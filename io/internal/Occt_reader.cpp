@@ -306,8 +306,8 @@ struct Session {
   }
 };
 
-// Sample grid of the deviation measurement: kDeviationIntervals intervals per direction (a
-// multiple of the former 8, whose grid it contains), one more such step per
+// Sample grid of the deviation measurement: kDeviationIntervals intervals per direction, one
+// more such step per
 // kDeviationSpansPerStep knot spans up to kDeviationMaxIntervals, so every span holds samples.
 constexpr int kDeviationIntervals = 16;
 constexpr int kDeviationSpansPerStep = 4;
@@ -329,7 +329,7 @@ int deviation_intervals(const std::vector<double>& knots, double lo, double hi) 
 // so that point is already close), lowered by a local minimisation of the distance started
 // there (which also finds the foot point where the parametrisation differs, e.g. an offset
 // cylinder converted to a rational one); OpenCASCADE's global projection (a grid search per
-// point, the former cost of importing offset faces) only where that local search fails.
+// point, costly) only where that local search fails.
 // Between samples nothing is bounded: a certified margin needs a bound on the derivatives of
 // (ours - source), which OpenCASCADE's surfaces do not give, and the distance's Lipschitz
 // bound from our control net alone (|s_u| h_u / 2 + |s_v| h_v / 2) is orders of magnitude above
