@@ -22,10 +22,11 @@
 // writes bench/results/compare_<scenario>.svg (log-log time against error; a partial run only
 // with --out).
 //
-// Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--out DIR]
+// Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--budget E] [--out DIR]
 //                [--data DIR] [--mesh FILE] [a] [b] [c] [e]
 // (--rate: only the tracker rows at that rate, for profiling one rate under callgrind;
-// --own-basin-gap: Body_pair_options::own_basin_gap of the body-pair rows.)
+// --own-basin-gap: Body_pair_options::own_basin_gap of the body-pair rows; --budget: their
+// error budget, Body_pair_options::tolerance, absolute and relative alike.)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -240,6 +241,7 @@ struct Tracker_config {
   int corrections = 0;
   int audit_every = 0;
   double own_basin_gap = Body_pair_options{}.own_basin_gap;  // body pairs only
+  double budget = Body_pair_options{}.tolerance.relative;   // absolute and relative, body pairs
 };
 
 // Our tracker over the whole motion at `rate`, started on the certified pair at t = 0.
@@ -255,6 +257,11 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
     char gap[64];
     std::snprintf(gap, sizeof gap, ", own-basin gap %g", c.own_basin_gap);
     row.setting += gap;
+  }
+  if (!s.single_patch && c.budget != Body_pair_options{}.tolerance.relative) {
+    char budget[64];
+    std::snprintf(budget, sizeof budget, ", budget %g", c.budget);
+    row.setting += budget;
   }
   std::snprintf(buf, sizeof buf, "tracker K dt = %g%s%s", c.kdt, c.corrections ? " + corr." : "",
                 c.audit_every ? " + audits" : "");
@@ -304,6 +311,7 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
     options_b.tracker = options;
     options_b.audit_every = c.audit_every;
     options_b.own_basin_gap = c.own_basin_gap;
+    options_b.tolerance = {c.budget, c.budget};
     std::vector<double> starts;
     for (int run = 0; run < runs; ++run) {
       Scene_stepper stepper({{&s.a, &s.motion_a}, {&s.b, &s.motion_b}}, {{0, 1}}, options_b);
@@ -705,7 +713,7 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
 }
 
 void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
-                  double own_basin_gap, const std::string& out_dir) {
+                  double own_basin_gap, double budget, const std::string& out_dir) {
   Reference_cache ref(s);
   std::vector<Row> rows;
   const auto t_start = Clock::now();
@@ -723,6 +731,7 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
   for (Tracker_config& c : configs) {
     if (only_rate > 0.0 && c.rate != only_rate) continue;
     c.own_basin_gap = own_basin_gap;
+    c.budget = budget;
     rows.push_back(run_tracker(s, ref, c));
     std::fprintf(stderr, "(%s) %s %s: %.0f s\n", s.key.c_str(), rows.back().method.c_str(),
                  rows.back().setting.c_str(), micros_since(t_start) * 1e-6);
@@ -757,6 +766,7 @@ int main(int argc, char** argv) {
   bool quick = false, trackers_only = false;
   double only_rate = 0.0;
   double own_basin_gap = Body_pair_options{}.own_basin_gap;
+  double budget = Body_pair_options{}.tolerance.relative;
   std::string out_dir;  // bench/results for full runs (below)
   std::string data = EXTREMAL_SHARED_DATA;
   std::string large_mesh;  // (e): a mesh of 10^5 triangles or more
@@ -770,6 +780,8 @@ int main(int argc, char** argv) {
       only_rate = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--own-basin-gap") && i + 1 < argc)
       own_basin_gap = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--budget") && i + 1 < argc)
+      budget = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
       out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
@@ -799,16 +811,16 @@ int main(int argc, char** argv) {
   try {
     if (wanted("a")) {
       Scenario a = seed_ellipsoids(quick);
-      run_scenario(a, quick, trackers_only, only_rate, own_basin_gap, out_dir);
+      run_scenario(a, quick, trackers_only, only_rate, own_basin_gap, budget, out_dir);
     }
     if (wanted("b")) {
       Scenario b = crate_and_ellipsoid(quick);
-      run_scenario(b, quick, trackers_only, only_rate, own_basin_gap, out_dir);
+      run_scenario(b, quick, trackers_only, only_rate, own_basin_gap, budget, out_dir);
     }
     if (wanted("c")) {
       bool ok = false;
       Scenario c = step_parts(quick, data, ok);
-      if (ok) run_scenario(c, quick, trackers_only, only_rate, own_basin_gap, out_dir);
+      if (ok) run_scenario(c, quick, trackers_only, only_rate, own_basin_gap, budget, out_dir);
     }
     if (wanted("e")) extremal::bench::run_mesh_scenario(quick, data, large_mesh);
   } catch (const std::exception& e) {

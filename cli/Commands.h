@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,8 @@ struct Report_options {
   double snapshot_time = 0.0;     // --at T
   int threads = 1;
   int every = 1;                  // --every N: the rows of steps k % N == 0 and the last step
+  // --tolerance A, --relative-tolerance R: every scene's error budget (its "tolerance" key).
+  std::optional<double> tolerance, relative_tolerance;
   bool quiet = false;
 };
 int run_report(const Report_options& options);

@@ -143,7 +143,11 @@ int run_report(const Report_options& options) {
     // Every scene is read (and checked) before any runs: a typo in the last scene of a batch
     // costs nothing.
     std::vector<io::Scene> scenes;
-    for (const auto& path : options.scenes) scenes.push_back(io::read_scene(path, io::load_bodies));
+    for (const auto& path : options.scenes) {
+      scenes.push_back(io::read_scene(path, io::load_bodies));
+      if (options.tolerance) scenes.back().tolerance.absolute = *options.tolerance;
+      if (options.relative_tolerance) scenes.back().tolerance.relative = *options.relative_tolerance;
+    }
     const bool batch = scenes.size() > 1;
     const std::vector<std::string> tags = scene_tags(options.scenes);
     std::vector<Scene_outputs> outputs;

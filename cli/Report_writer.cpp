@@ -40,6 +40,8 @@ class Csv_writer final : public Report_writer {
     m_out << ',' << r.feature_a << ',' << r.feature_b << ',' << to_string(r.status) << ','
           << detail(r);
     for (int c = 0; c < 4; ++c) m_out << ',' << format_number(r.params[c]);
+    m_out << ',';
+    if (r.lower_bound) m_out << format_number(*r.lower_bound);  // (empty: no bound)
     if (!m_scene.empty()) m_out << ',' << m_scene;
     m_out << '\n';
   }
@@ -91,7 +93,9 @@ class Json_writer final : public Report_writer {
                               {"face_b", r.feature_b},
                               {"status", to_string(r.status)},
                               {"detail", detail(r)},
-                              {"params", {r.params[0], r.params[1], r.params[2], r.params[3]}}};
+                              {"params", {r.params[0], r.params[1], r.params[2], r.params[3]}},
+                              {"lower_bound", r.lower_bound ? nlohmann::json(*r.lower_bound)
+                                                            : nlohmann::json()}};
     m_out << (m_first ? "\n" : ",\n") << j.dump();
     m_first = false;
   }
@@ -137,7 +141,7 @@ std::string intervals_text(const std::vector<io::Time_interval>& runs) {
 
 std::string csv_header(bool with_scene_column) {
   return std::string("t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,"
-                     "detail,ua,va,ub,vb") +
+                     "detail,ua,va,ub,vb,lower_bound") +
          (with_scene_column ? ",scene" : "");
 }
 
@@ -162,6 +166,7 @@ io::Clearance_state clearance_state(Pair_status status) {
     case Pair_status::Contact: return io::Clearance_state::Contact;
     case Pair_status::Penetrating: return io::Clearance_state::Penetrating;
     case Pair_status::Farther: return io::Clearance_state::Farther;
+    case Pair_status::Uncertified: return io::Clearance_state::Uncertified;
     default: return io::Clearance_state::Apart;
   }
 }
@@ -187,6 +192,7 @@ nlohmann::json summary_json(const std::string& body_a, const std::string& body_b
       s.deepest_penetration ? nlohmann::json(*s.deepest_penetration) : nlohmann::json();
   j["deepest_time"] = s.deepest_penetration ? nlohmann::json(s.deepest_time) : nlohmann::json();
   j["farther"] = intervals_json(s.farther);
+  j["uncertified"] = intervals_json(s.uncertified);
   j["step_time_us"] = step_time_json(step_time);
   return j;
 }
@@ -225,6 +231,9 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
           << "\n";
     if (!s.farther.empty())
       out << "    farther than the threshold " << intervals_text(s.farther) << "\n";
+    if (!s.uncertified.empty())
+      out << "    uncertified (lower bound short of the error budget) " << intervals_text(s.uncertified)
+          << "\n";
     out << step_time;
   }
 }

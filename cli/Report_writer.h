@@ -16,8 +16,9 @@
 
 namespace extremal::cli {
 
-// The CSV header: the contract's columns, then ours (detail, the pair's parameters) and, in a
-// batch written to one stream, the scene file.
+// The CSV header: the contract's columns, then ours (detail, the pair's parameters, the
+// certified lower bound, empty where there is none) and, in a batch written to one stream, the
+// scene file.
 std::string csv_header(bool with_scene_column);
 
 // A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180).
@@ -47,7 +48,7 @@ std::unique_ptr<Report_writer> make_csv_writer(std::ostream& out, bool header,
 std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Scene& scene);
 
 // A summary as JSON: {"body_a", "body_b", "rows", "min_distance", "min_time", "contact":
-// [[start, end], ...], "penetration": [...], "deepest_penetration", "deepest_time", "farther",
+// [[start, end], ...], "penetration": [...], "deepest_penetration", "deepest_time", "farther", "uncertified",
 // "step_time_us": {"mean", "median", "p99", "max"}}.
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
                             const io::Pair_summary& s, const Step_time_stats& step_time);

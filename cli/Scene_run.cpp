@@ -21,6 +21,7 @@ Body_pair_options pair_options_of(const io::Scene& scene) {
   o.threshold = scene.threshold.value_or(0.0);
   o.audit_every = scene.tracker.audit_every;
   o.own_basin_gap = scene.tracker.own_basin_gap;
+  o.tolerance = {scene.tolerance.absolute, scene.tolerance.relative};
   return o;
 }
 

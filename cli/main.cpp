@@ -3,6 +3,7 @@
 // Contract: docs/cli.md.
 #include <exception>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -84,6 +85,15 @@ int main(int argc, char** argv) {
                    value + "'";
           },
           "N>=1"));
+  double tolerance = 0.0, relative_tolerance = 0.0;
+  CLI::Option* tolerance_opt = report_cmd->add_option("--tolerance", tolerance,
+                         "Error budget, absolute (scene units): every apart row's lower_bound is "
+                         "at least distance - max(A, R |distance|) (default 1e-9, or the scene's "
+                         "\"tolerance\" key)")
+      ->check(CLI::PositiveNumber);
+  CLI::Option* relative_tolerance_opt = report_cmd->add_option("--relative-tolerance", relative_tolerance,
+                         "Error budget, relative to the distance (default 1e-9, or the scene's)")
+      ->check(CLI::Range(std::numeric_limits<double>::min(), 1.0 - 1e-16));
   report_cmd->add_flag("--quiet", report.quiet, "No summary, no progress bar");
 
   extremal::cli::Tessellate_options tessellate;
@@ -122,7 +132,11 @@ int main(int argc, char** argv) {
   }
   if (info_cmd->parsed()) return extremal::cli::run_info(info);
   if (distance_cmd->parsed()) return extremal::cli::run_distance(distance);
-  if (report_cmd->parsed()) return extremal::cli::run_report(report);
+  if (report_cmd->parsed()) {
+    if (tolerance_opt->count()) report.tolerance = tolerance;
+    if (relative_tolerance_opt->count()) report.relative_tolerance = relative_tolerance;
+    return extremal::cli::run_report(report);
+  }
   if (tessellate_cmd->parsed()) return extremal::cli::run_tessellate(tessellate);
   return 2;
 }

@@ -17,6 +17,7 @@ void Pair_summary_builder::add(double t, double distance, Clearance_state state)
   const bool farther = state == Clearance_state::Farther;
   const bool penetrating = state == Clearance_state::Penetrating;
   const bool touching = penetrating || state == Clearance_state::Contact;
+  const bool uncertified = state == Clearance_state::Uncertified;
   if (!farther) {
     ++s.tracked_rows;
     if (!s.min_distance || distance < *s.min_distance) {
@@ -31,9 +32,11 @@ void Pair_summary_builder::add(double t, double distance, Clearance_state state)
   extend(s.contact, touching, m_was_contact, t);
   extend(s.penetration, penetrating, m_was_penetrating, t);
   extend(s.farther, farther, m_was_farther, t);
+  extend(s.uncertified, uncertified, m_was_uncertified, t);
   m_was_contact = touching;
   m_was_penetrating = penetrating;
   m_was_farther = farther;
+  m_was_uncertified = uncertified;
 }
 
 }  // namespace extremal::io

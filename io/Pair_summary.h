@@ -15,6 +15,7 @@ enum class Clearance_state {
   Contact,      // |distance| within the contact tolerance
   Penetrating,  // distance below minus the contact tolerance
   Farther,      // beyond the threshold, not tracked: the distance is only a lower bound
+  Uncertified,  // apart, its certified lower bound short of the error budget
 };
 
 // A run of consecutive rows in one state: the times of its first and last row. An interval of
@@ -35,6 +36,8 @@ struct Pair_summary {
   std::vector<Time_interval> penetration;
   // Rows beyond the threshold.
   std::vector<Time_interval> farther;
+  // Apart rows whose certified lower bound fell short of the error budget.
+  std::vector<Time_interval> uncertified;
   // Deepest penetration (a positive depth, -distance) and the first time it occurred; empty
   // when the pair never penetrated.
   std::optional<double> deepest_penetration;
@@ -51,6 +54,7 @@ class Pair_summary_builder {
   static void extend(std::vector<Time_interval>& runs, bool in_run, bool was_in_run, double t);
   Pair_summary m_summary;
   bool m_was_contact = false, m_was_penetrating = false, m_was_farther = false;
+  bool m_was_uncertified = false;
 };
 
 }  // namespace extremal::io

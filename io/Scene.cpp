@@ -338,7 +338,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
     err.fail("", std::string("not valid JSON: ") + e.what());
   }
   if (!root.is_object()) err.fail("", "the scene must be a JSON object");
-  check_keys(root, "", {"units", "time", "bodies", "pairs", "threshold", "tracker"}, err);
+  check_keys(root, "", {"units", "time", "bodies", "pairs", "threshold", "tracker", "tolerance"}, err);
   Scene scene;
   scene.path = path;
   const std::string folder = std::filesystem::path(path).parent_path().string();
@@ -486,6 +486,18 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
       const std::string s = string(t["integrator"], "tracker.integrator", err);
       if (s != "euler" && s != "rk4") err.fail("tracker.integrator", "expected \"euler\" or \"rk4\"");
       scene.tracker.rk4 = s == "rk4";
+    }
+  }
+  if (root.contains("tolerance")) {
+    const json& t = root["tolerance"];
+    if (!t.is_object()) err.fail("tolerance", "expected an object");
+    check_keys(t, "tolerance", {"absolute", "relative"}, err);
+    if (t.contains("absolute"))
+      scene.tolerance.absolute = positive(t["absolute"], "tolerance.absolute", err);
+    if (t.contains("relative")) {
+      const double r = positive(t["relative"], "tolerance.relative", err);
+      if (!(r < 1.0)) err.fail("tolerance.relative", "must be > 0 and < 1");
+      scene.tolerance.relative = r;
     }
   }
   if (scene.pairs.empty())

@@ -35,6 +35,13 @@ struct Tracker_settings {
   double own_basin_gap = 1e-3;
 };
 
+// What an apart row may miss the true distance by (Body_pair_options::tolerance): its
+// certified lower bound is at least d - max(absolute, relative |d|).
+struct Tolerance_settings {
+  double absolute = 1e-9;  // scene units, > 0
+  double relative = 1e-9;  // > 0 and < 1
+};
+
 struct Scene {
   std::string path;
   std::string units = "mm";
@@ -43,6 +50,7 @@ struct Scene {
   std::vector<std::pair<int, int>> pairs;  // indices into bodies
   std::optional<double> threshold;
   Tracker_settings tracker;
+  Tolerance_settings tolerance;  // the scene's "tolerance": {"absolute", "relative"}
 
   int step_count() const;  // number of time steps from start to end inclusive
   double time_of(int step_index) const;

@@ -58,5 +58,23 @@ TEST(PairSummary, AlwaysFartherHasNoMinimumAndNeverTouching) {
   EXPECT_EQ(b.summary().farther[0].end, 1.0);
 }
 
+TEST(PairSummary, UncertifiedRowsAreApartAndRunInIntervals) {
+  io::Pair_summary_builder b;
+  b.add(0.0, 2.0, Clearance_state::Apart);
+  b.add(0.1, 1.0, Clearance_state::Uncertified);
+  b.add(0.2, 1.5, Clearance_state::Uncertified);
+  b.add(0.3, 3.0, Clearance_state::Apart);
+  b.add(0.4, 3.5, Clearance_state::Uncertified);
+  const io::Pair_summary& s = b.summary();
+  EXPECT_EQ(s.tracked_rows, 5);
+  EXPECT_EQ(*s.min_distance, 1.0);  // an uncertified row's distance is still a reading
+  EXPECT_EQ(s.min_time, 0.1);
+  ASSERT_EQ(s.uncertified.size(), 2u);
+  EXPECT_EQ(s.uncertified[0].start, 0.1);
+  EXPECT_EQ(s.uncertified[0].end, 0.2);
+  EXPECT_EQ(s.uncertified[1].start, 0.4);
+  EXPECT_TRUE(s.contact.empty());
+}
+
 }  // namespace
 }  // namespace extremal

@@ -44,6 +44,7 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
     std::stringstream ls(line);
     std::string c;
     while (std::getline(ls, c, ',')) cells.push_back(c);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();  // a last empty field
     rows.push_back(cells);
   }
   return rows;
@@ -232,6 +233,16 @@ TEST(ReportCli, SpheresThroughContactExactWithSummary) {
                       (cells_vec(rows[i], 7) - (c - 0.5 * u)).norm(),
                       (cells_vec(rows[i], 10) - u).norm()});
     EXPECT_EQ(rows[i][15], exact < -1e-9 ? "penetrating" : "tracking") << "t = " << t;
+    // The certified lower bound: at most the true distance, within the default budget of the
+    // row's; none while the balls overlap.
+    ASSERT_EQ(rows[i].size(), 22u);
+    if (exact > 1e-9) {
+      const double d = std::stod(rows[i][3]), lower = std::stod(rows[i][21]);
+      EXPECT_LE(lower, exact + 1e-12) << "t = " << t;
+      EXPECT_GE(lower, d - std::max(1e-9, 1e-9 * d) * (1 + 1e-12)) << "t = " << t;
+    } else if (exact < -1e-6) {
+      EXPECT_EQ(rows[i][21], "") << "t = " << t;
+    }
     if (exact < -1e-9) {
       if (first_inside < 0) first_inside = t;
       last_inside = t;
@@ -683,6 +694,43 @@ TEST(ReportCli, EveryBelowOneIsAUsageError) {
   EXPECT_NE(r.err.find("must be an integer from 1"), std::string::npos) << r.err;
 }
 
+// The error budget from the command line overrides the scene's "tolerance" key; every apart
+// row's lower bound is within it, and bad values are usage errors.
+TEST(ReportCli, ToleranceFlagsSetTheErrorBudgetOfTheLowerBounds) {
+  const std::string scene = write_scene("extremal_budget.json", R"({
+    "time": {"start": 0, "end": 1, "step": 0.05},
+    "bodies": [
+      {"name": "A", "shape": {"type": "torus", "major": 3, "minor": 1}},
+      {"name": "B", "shape": {"type": "sphere", "radius": 0.5}, "pose": {"position": [5, 1, 2]},
+       "motion": {"type": "twist", "velocity": [-4, 0, -1], "angular_velocity": [0, 1, 0]}}],
+    "tolerance": {"absolute": 1e-12, "relative": 1e-12},
+    "pairs": [["A", "B"]]})");
+  const std::string csv = temp_path("extremal_budget.csv");
+  for (const std::string flags : {"", " --tolerance 1e-3 --relative-tolerance 1e-3"}) {
+    const Cli_run r = run("report " + scene + " -o " + csv + " --quiet" + flags);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const double budget = flags.empty() ? 1e-12 : 1e-3;
+    const auto rows = parse_csv(slurp(csv));
+    EXPECT_EQ(rows.at(0).back(), "lower_bound");
+    int bounded = 0;
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      if (rows[i][15] != "tracking" && rows[i][15] != "boundary") continue;
+      const double d = std::stod(rows[i][3]), lower = std::stod(rows[i][21]);
+      EXPECT_LE(lower, d);
+      EXPECT_GE(lower, d - std::max(budget, budget * d) * (1 + 1e-12)) << flags << " row " << i;
+      ++bounded;
+    }
+    EXPECT_GT(bounded, 10) << flags;
+  }
+  for (const char* bad : {"--tolerance 0", "--tolerance -1", "--relative-tolerance 1",
+                          "--relative-tolerance x"}) {
+    const Cli_run r = run("report " + scene + " --quiet " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
+        << bad << ": " << r.err;
+  }
+}
+
 TEST(ReportCli, SeveralScenesRunAsABatch) {
   const auto dir = test::scratch_dir() / "extremal_batch";
   std::filesystem::remove_all(dir);
@@ -761,7 +809,12 @@ TEST(ReportCli, SchemaErrorsNameTheJsonPathAndTheReason) {
       "bodies[1].motion.keyframes[1].t: times must increase");
   expect_scene_error(scene(two, R"(, "colour": "red")"),
                      "colour: unknown key (expected one of: units, time, bodies, pairs, threshold, "
-                     "tracker)");
+                     "tracker, tolerance)");
+  expect_scene_error(scene(two, R"(, "tolerance": {"absolute": 0})"), "tolerance.absolute: must be > 0");
+  expect_scene_error(scene(two, R"(, "tolerance": {"relative": 1})"),
+                     "tolerance.relative: must be > 0 and < 1");
+  expect_scene_error(scene(two, R"(, "tolerance": {"abs": 1e-3})"),
+                     "tolerance.abs: unknown key (expected one of: absolute, relative)");
   expect_scene_error(scene(R"({"name": "A", "shape": {"type": "sphere", "radius": 1, "centre": 0}})"),
                      "bodies[0].shape.centre: unknown key (expected one of: type, radius)");
   expect_scene_error(scene(two, R"(, "tracker": {"gain": 0})"), "tracker.gain: must be > 0");

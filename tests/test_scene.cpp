@@ -86,6 +86,14 @@ TEST(Scene, TwistMotionReproducesItsPoses) {
       "scene.json");
   EXPECT_EQ(watched.tracker.audit_every, 5);
   EXPECT_EQ(watched.tracker.own_basin_gap, 0.01);
+  EXPECT_EQ(scene.tolerance.absolute, 1e-9);  // the default error budget
+  EXPECT_EQ(scene.tolerance.relative, 1e-9);
+  const auto budget = io::parse_scene(
+      with_bodies(std::string(k_sphere) + "," + R"({"name": "B", "shape": {"type": "point"}})",
+                  R"(, "tolerance": {"absolute": 1e-3, "relative": 1e-6})"),
+      "scene.json");
+  EXPECT_EQ(budget.tolerance.absolute, 1e-3);
+  EXPECT_EQ(budget.tolerance.relative, 1e-6);
 }
 
 TEST(Scene, KeyframesInterpolateAndHoldOutside) {

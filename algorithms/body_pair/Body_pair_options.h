@@ -7,9 +7,24 @@
 #include "algorithms/distance/Penetration_depth.h"
 #include "algorithms/pair/Extremal_tracker.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace extremal {
 
+// The error a user allows an apart reading (as FCL's and Coal's abs_err and rel_err): every
+// apart row carries a certified lower bound on the bodies' true distance d of at least
+// d - max(absolute, relative |d|) (Pair_report::lower_bound), or the status Uncertified. The
+// certification proves no more than that: a looser budget costs less.
+struct Error_budget {
+  double absolute = 1e-9;
+  double relative = 1e-9;
+  double at(double d) const { return std::max(absolute, relative * std::abs(d)); }
+};
+
 struct Body_pair_options {
+  // What an apart row may miss the true distance by (see Error_budget).
+  Error_budget tolerance;
   // Scenes correct the pair when one step's linearisation falls short (see
   // Tracker_options::corrections).
   Tracker_options tracker = [] {
@@ -27,14 +42,17 @@ struct Body_pair_options {
   int audit_every = 0;
   // A tracked primitive pair is watched for another basin of its own (a rod moved across a
   // ring leaves the ring's near side for its far side, both on one face pair): a basin that
-  // comes closer than the tracked one by more than this fraction of its distance (at least the
-  // seeding tolerance) gets the pair's tracker. Smaller costs deeper restricted solves near the
-  // tracked minimum, which the watch must clear without settling it; 0: not watched.
+  // comes closer than the tracked one by more than this fraction of its distance, or by more
+  // than the error budget if that is less, gets the pair's tracker. Smaller costs deeper
+  // restricted solves near the tracked minimum, which the watch must clear without settling
+  // it; 0: not watched (the rows of two bodies not both convex then carry no certified bound
+  // beyond the tracked pair's own: see Pair_report::lower_bound).
   double own_basin_gap = 1e-3;
   // The certified solver's request on one candidate primitive pair (seeding a new pair, and
   // checking a pair whose tracker moved on for a closer basin): a start for the tracker, whose
   // corrections converge it, so a looser tolerance and a small node budget bound the cost of
-  // pairs with a continuum of equal minima (parallel planar faces).
+  // pairs with a continuum of equal minima (parallel planar faces). The certification of
+  // candidate pairs runs it at no more than a quarter of the error budget (k_seeding_slack).
   Distance_request seeding = [] {
     Distance_request r;
     r.absolute_tolerance = 1e-9;
@@ -56,7 +74,8 @@ struct Body_pair_options {
   // The certified solver's request for the start and the audits. Without the bounds about
   // centres and axes of symmetry: with them the start at a ball's pole above a cylinder's cap
   // centre (bench/stress_suite c0_cylinder) lands the tracker's first step 1.1e-6 off, a pole
-  // start-up transient not yet mended.
+  // start-up transient not yet mended. Its tolerances are capped by the error budget (its
+  // answer is the row when no tracker holds).
   Distance_request global = [] {
     Distance_request r;
     r.absolute_tolerance = 1e-7;

@@ -23,6 +23,7 @@ const char* to_string(Pair_status s) {
     case Pair_status::Boundary: return "boundary";
     case Pair_status::Farther: return "farther";
     case Pair_status::Fallback: return "fallback";
+    case Pair_status::Uncertified: return "uncertified";
   }
   return "unknown";
 }
@@ -299,6 +300,18 @@ void Body_pair_tracker::Stages::fill_report() {
              : tr && tr->status == Track_status::Singular_fallback ? Pair_status::Fallback
              : tr && tr->status == Track_status::On_boundary       ? Pair_status::Boundary
                                                                    : Pair_status::Tracking;
+  // Apart: the certification's bound of this step, or the solver's when it answered; a bound
+  // below the budget (or none) is no certificate.
+  r.lower_bound.reset();
+  if (r.distance > tol) {
+    double lower = -HUGE_VAL;
+    if (context.certified_at == context.steps) lower = context.certified_lower;
+    if (r.solved && s.step == context.steps) lower = std::max(lower, s.lower_bound);
+    lower = std::min(lower, r.distance);
+    if (lower > -HUGE_VAL) r.lower_bound = lower;
+    if (!(lower >= internal::certified_floor(r.distance, context.options.tolerance)))
+      r.status = Pair_status::Uncertified;
+  }
 }
 
 Body_pair_tracker::Body_pair_tracker(const Body& a, const Body& b, const Body_pair_options& options)
@@ -341,6 +354,7 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
   if (s.is_farther(X_WA, X_WB)) {
     r.status = Pair_status::Farther;
     r.distance = box_distance(transformed(c.model_a->box(), X_WA), transformed(c.model_b->box(), X_WB));
+    r.lower_bound = r.distance;  // (the boxes hold the bodies)
     r.point_a = r.point_b = r.normal = Vec3::Zero();
     r.feature_a = r.feature_b = r.edge_a = r.edge_b = -1;
     r.degeneracy = Degeneracy::None;

@@ -122,6 +122,7 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
                                      double deeper, const Overlap_test* known) {
   m_context.keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
               g.kind_b, g.element_b, g.params_b);
+  m_context.solved.lower_bound = g.lower_bound;
   const Distance_hierarchy& HA = m_context.model_a->hierarchy();
   const Distance_hierarchy& HB = m_context.model_b->hierarchy();
   const Overlap_test overlap =

@@ -117,9 +117,22 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
                                       double best) {
   mark_tracked();
   bool meet = false;
-  const double tol = std::max(m_context.options.seeding.absolute_tolerance,
-                              m_context.options.seeding.relative_tolerance * best);
-  const double need_apart = best - tol;  // a pair certified at or above this holds nothing closer
+  // What the rows may miss (the error budget), and the restricted solves' tolerance: the
+  // seeding request's, at most a quarter of the budget so that every cutoff has room above
+  // `need` (k_seeding_slack).
+  const Body_pair_options& o = m_context.options;
+  const double budget = o.tolerance.at(best);
+  Distance_request request = o.seeding;
+  request.absolute_tolerance = std::min(request.absolute_tolerance, o.tolerance.absolute / k_seeding_slack);
+  request.relative_tolerance = std::min(request.relative_tolerance, o.tolerance.relative / k_seeding_slack);
+  const double tol = std::max(request.absolute_tolerance, request.relative_tolerance * best);
+  const double need_apart = best - budget;  // a pair certified at or above this holds nothing closer
+  // The certified lower bound on the bodies' distance this step: the least of every candidate
+  // pair's certified bound, and of the pairs beyond the broad phase's reach (all of them at
+  // least the reach less the relative motion since it ran). Test
+  // Certificate.EveryApartRowsLowerBoundHoldsAgainstTheOneShotSolver.
+  double certified = m_broad_reach - approach_bound(m_context.model_a->box(), m_context.model_b->box(),
+                                                    m_last_relative, m_context.relative).closer;
   const Symmetry turning = m_context.V_A != nullptr && m_context.V_B != nullptr
                                ? turn_axis(*m_context.V_A, X_WA, *m_context.V_B, X_WB)
                                : Symmetry();
@@ -134,29 +147,41 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     // cutting a shell's face read 'tracking' at +0.025 on another face) is certified as an
     // untracked one.
     const bool held = std::isfinite(C.tracked_distance);
-    if (held && !watch) continue;
     const int pa = key_a(C.key), pb = key_b(C.key);
-    if (!certifiable(pa, pb)) continue;
+    const Primitive& A = m_context.model_a->primitives()[pa];
+    const Primitive& B = m_context.model_b->primitives()[pb];
+    // Pairs not watched or not certifiable: a converged tracked reading is the pair's minimum
+    // between convex bodies, and a closed form's is exact; otherwise the last certified bound,
+    // decayed, or the boxes.
+    if ((held && !watch) || !certifiable(pa, pb)) {
+      const bool exact = held && (!watch || m_live[C.tracked_slot].closed_form);
+      double lower = exact ? C.tracked_distance
+                           : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
+      if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
+      certified = std::min(certified, lower);
+      continue;
+    }
     // A tracked pair is watched for another basin of its own: what must clear is its tracked
     // distance less the gap (or the tracked minimum, if lower), and every cutoff stays below
     // the tracked basin (half the gap), so the solves settle it rather than converge on it.
     double need = need_apart;
     double ceiling = HUGE_VAL;
     if (held) {
-      const double gap = std::max(k_seeding_slack * tol, m_context.options.own_basin_gap * C.tracked_distance);
+      const double gap =
+          std::max(k_seeding_slack * tol,
+                   std::min(o.own_basin_gap * C.tracked_distance, o.tolerance.at(C.tracked_distance)));
       need = std::min(need_apart, C.tracked_distance - gap);
       ceiling = C.tracked_distance - k_watch_ceiling * gap;
     }
     auto below_ceiling = [&](double cutoff) { return std::max(need + tol, std::min(cutoff, ceiling)); };
-    const Primitive& A = m_context.model_a->primitives()[pa];
-    const Primitive& B = m_context.model_b->primitives()[pb];
     ++m_context.stats.vacated_checks;
     // The bound carried from an earlier step, less how much closer the pair can have come;
     // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
     // side shared with a face whose pair is tracked) stay so while the relative motion is
     // below their gradient's reach and the carrying pairs are still tracked (see below).
     const Approach moved = approach_bound(A.box, B.box, C.at, m_context.relative);
-    bool clear = C.lower - moved.closer >= need;
+    double lower_now = C.lower - moved.closer;
+    bool clear = lower_now >= need;
     if (!clear && C.bound_count > 0) {
       // The decay assumed the worst direction of motion for the whole pair: its last solve's
       // bounded sub-patch pairs, re-bounded at this pose, often still clear it.
@@ -164,26 +189,31 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       if (now >= need) {
         clear = true;
         ++m_context.stats.vacated_bound_checks;
-        C.lower = now;
+        C.lower = lower_now = now;
         C.at = m_context.relative;
       }
     }
     if (clear && carriers_tracked(C)) {
       const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
       const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_context.relative) : moved;
-      if (since.move_b < C.reach[0] && since.move_a < C.reach[1]) continue;
+      bool holds = since.move_b < C.reach[0] && since.move_a < C.reach[1];
       // Past the reach, which assumed the worst direction of motion: the set-aside pairs
       // checked again at this pose (the other box moved rigidly) usually still hold.
       std::array<double, 2> reach;
-      if (proofs_hold(C, reach)) {
+      if (!holds && proofs_hold(C, reach)) {
+        holds = true;
         ++m_context.stats.vacated_proof_checks;
         C.reach = reach;
         C.reach_at = m_context.relative;
+      }
+      if (holds) {
+        certified = std::min(certified, lower_now);
         continue;
       }
     }
     const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
     if (boxes >= need) {
+      certified = std::min(certified, boxes);
       C.lower = boxes;
       C.at = m_context.relative;
       C.reach = {HUGE_VAL, HUGE_VAL};
@@ -209,7 +239,6 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
             ? k_seeding_slack * tol
             : std::max(k_seeding_slack * tol,
                        std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
-    Distance_request request = m_context.options.seeding;
     internal::Proof_request proof;
     proof.keep_proofs = true;
     // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
@@ -323,8 +352,17 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     keep_proofs(C, Solve_pose{X_WA, m_context.relative}, kept);
     C.slack = g.element_a < 0 ? slack : 0.0;
     C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
-    if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) continue;
+    if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) {
+      certified = std::min(certified, C.lower);
+      continue;
+    }
     if (g.upper_bound <= m_context.options.contact_tolerance) meet = true;
+    // A closer basin found by a solve that stopped short of the budget (proving, or partial):
+    // the pair solved whole, for a bound within the budget of the new minimum.
+    double lower = C.lower;
+    if (lower < certified_floor(g.upper_bound, o.tolerance))
+      lower = std::max(lower, solve(request, proof, false).uncarried_lower_bound);
+    certified = std::min(certified, lower);
     Vec4 params = Vec4::Zero();
     params_from_global(A, g.params_a, params.data());
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
@@ -335,6 +373,8 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     ++m_context.stats.vacated_seeds;
     C.tracked = true;
   }
+  m_context.certified_lower = certified;
+  m_context.certified_at = m_context.steps;
   return meet;
 }
 

@@ -80,7 +80,8 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   }
   m_started = true;
   m_last = X_MO;
-  const double tolerance = k_front_relative_tolerance * std::abs(m_front.closest().distance);
+  const double last = std::abs(m_front.closest().distance);
+  const double tolerance = std::min(k_front_relative_tolerance * last, m_options.tolerance.at(last));
   const Mesh_closest& c = m_front.update(X_MO, closer, std::isfinite(tolerance) ? tolerance : 0.0);
 
   // The surfaces' closest pair, in the world; A's witness first.
@@ -106,6 +107,12 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   r.status = r.distance < -tol ? Pair_status::Penetrating
              : r.distance <= tol ? Pair_status::Contact
                                  : Pair_status::Tracking;
+  r.lower_bound.reset();
+  if (r.status == Pair_status::Tracking) {
+    r.lower_bound = std::min(c.lower_bound, r.distance);
+    if (!(*r.lower_bound >= certified_floor(r.distance, m_options.tolerance)))
+      r.status = Pair_status::Uncertified;
+  }
   const Mesh_front_statistics& f = m_front.statistics();
   stats.trackers = 1;
   stats.candidates = static_cast<int>(m_front.size());

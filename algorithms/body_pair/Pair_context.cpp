@@ -65,7 +65,10 @@ double Pair_context::reach_margin() const {
 
 Distance_result Pair_context::global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
   ++stats.audits;
-  return extremal_distance(model_a->hierarchy(), X_WA, model_b->hierarchy(), X_WB, options.global,
+  Distance_request request = options.global;
+  request.absolute_tolerance = std::min(request.absolute_tolerance, options.tolerance.absolute);
+  request.relative_tolerance = std::min(request.relative_tolerance, options.tolerance.relative);
+  return extremal_distance(model_a->hierarchy(), X_WA, model_b->hierarchy(), X_WB, request,
                            workspace);
 }
 
@@ -76,6 +79,7 @@ void Pair_context::keep_solved(double distance, const Vec3& point_a, const Vec3&
   Solved& s = solved;
   s.step = steps;
   s.distance = distance;
+  s.lower_bound = -HUGE_VAL;
   s.point_a = point_a;
   s.point_b = point_b;
   s.normal = normal;

@@ -2,6 +2,8 @@
 // and, apart from it, the statistics of the work done so far.
 #pragma once
 
+#include <optional>
+
 #include "algorithms/pair/Extremal_tracker.h"
 #include "kernel/Types.h"
 
@@ -14,6 +16,10 @@ enum class Pair_status {
   Boundary,     // apart, the pair on a patch edge or corner
   Farther,      // beyond the threshold: not tracked
   Fallback,     // degenerate geometry: damped step (Pair_report::degeneracy says why)
+  // Apart, but the certificate that nothing is closer by more than the error budget could not
+  // be made within the step (a restricted solve ran out of its node budget): lower_bound says
+  // what was certified.
+  Uncertified,
 };
 const char* to_string(Pair_status s);
 
@@ -52,6 +58,10 @@ struct Pair_report {
   // When solved: the rule that rejected the closest tracker's reading (None: no tracker read
   // a pair, or all were seeded this step and none had been judged).
   Reading_rule rejected_by = Reading_rule::None;
+  // Apart (and farther): a certified lower bound on the bodies' true distance at this step, at
+  // least distance - Error_budget::at(distance) unless the status is Uncertified. None where
+  // the bodies touch or overlap (a depth is local: no bound on it is certified).
+  std::optional<double> lower_bound;
 };
 
 // Work done by a body-pair tracker since its start (Body_pair_tracker::statistics).

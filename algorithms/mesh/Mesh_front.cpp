@@ -253,6 +253,13 @@ const Mesh_closest& Mesh_front::update(const Rigid_pose_3& X_AB, double closer, 
     }
     break;
   }
+  // Every pair off the front's heap is measured or pruned against the best; the heap's least
+  // key, decayed and less its rounding, bounds the rest.
+  m_best.lower_bound = m_best.distance;
+  if (!m_heap.empty())
+    m_best.lower_bound = std::min(m_best.lower_bound,
+                                  m_heap.front().key - m_sum -
+                                      k_key_rounding * (std::abs(m_best.distance) + m_sum + m_length));
   // A carried step that cost more than a traversal from the roots did (the motion decayed most
   // of the front): the next step traverses from the roots again, so that no step costs much
   // more than a cold query (test MeshFront.TheCarriedFrontEqualsAColdSolveAndBruteForceAtEveryStep).

@@ -26,6 +26,8 @@ struct Mesh_closest {
   int triangle_a = -1, triangle_b = -1;  // mesh triangles (-1 on B: the point)
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();  // A's frame
   double uv_a[2] = {0, 0}, uv_b[2] = {0, 0};
+  // Certified: no two points of the bodies are closer (at most `distance`).
+  double lower_bound = -HUGE_VAL;
 };
 
 struct Mesh_front_statistics {

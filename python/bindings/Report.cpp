@@ -84,9 +84,10 @@ Py_scene_outline read_outline(const std::string& path, const std::optional<std::
 // Fields of the rows of the pairs one task ran, pair-major: [pair][step] (and [component]).
 struct Pair_rows {
   std::vector<double> distance, point_a, point_b, normal, params;
+  std::vector<double> lower_bound;  // where `bounded`; 0 elsewhere
   std::vector<float> step_time_us;  // each pair's step times, microseconds (cli::Scene_run)
   std::vector<std::int32_t> face_a, face_b;
-  std::vector<std::int8_t> status, degeneracy, solved;
+  std::vector<std::int8_t> status, degeneracy, solved, bounded;
 };
 
 py::dict run_scene(const std::string& path, const std::optional<std::vector<int>>& pairs,
@@ -131,6 +132,8 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
     rows.status.resize(n);
     rows.degeneracy.resize(n);
     rows.solved.resize(n);
+    rows.lower_bound.resize(n);
+    rows.bounded.resize(n);
     const auto m = static_cast<std::size_t>(steps);
     run.run([&](int step, double, const std::vector<Pair_report>& reports) {
       for (std::size_t k = 0; k < reports.size(); ++k) {
@@ -148,6 +151,8 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
         rows.status[at] = static_cast<std::int8_t>(r.status);
         rows.degeneracy[at] = static_cast<std::int8_t>(r.degeneracy);
         rows.solved[at] = r.solved ? 1 : 0;
+        rows.bounded[at] = r.lower_bound ? 1 : 0;
+        rows.lower_bound[at] = r.lower_bound.value_or(0.0);
       }
     });
     // Pair-major as the rows: the client rebuilds the summaries' step times from them.
@@ -169,6 +174,8 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
   out["status"] = take_array(std::move(rows.status), {P, M});
   out["degeneracy"] = take_array(std::move(rows.degeneracy), {P, M});
   out["solved"] = take_array(std::move(rows.solved), {P, M});
+  out["lower_bound"] = take_array(std::move(rows.lower_bound), {P, M});
+  out["bounded"] = take_array(std::move(rows.bounded), {P, M});
   out["step_time_us"] = take_array(std::move(rows.step_time_us), {P, M});
   return out;
 }
@@ -187,10 +194,10 @@ py::array_t<T, py::array::c_style> part_array(const py::dict& part, const char* 
 
 struct Part_view {
   std::size_t steps = 0;
-  py::array_t<double, py::array::c_style> distance, point_a, point_b, normal, params;
+  py::array_t<double, py::array::c_style> distance, point_a, point_b, normal, params, lower_bound;
   py::array_t<float, py::array::c_style> step_time_us;
   py::array_t<std::int32_t, py::array::c_style> face_a, face_b;
-  py::array_t<std::int8_t, py::array::c_style> status, degeneracy, solved;
+  py::array_t<std::int8_t, py::array::c_style> status, degeneracy, solved, bounded;
 };
 
 // Writes a scene's report from the rows its tasks ran (every pair once, in any split), as
@@ -232,6 +239,8 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
     v.status = part_array<std::int8_t>(part, "status", p, steps, 1);
     v.degeneracy = part_array<std::int8_t>(part, "degeneracy", p, steps, 1);
     v.solved = part_array<std::int8_t>(part, "solved", p, steps, 1);
+    v.lower_bound = part_array<double>(part, "lower_bound", p, steps, 1);
+    v.bounded = part_array<std::int8_t>(part, "bounded", p, steps, 1);
     v.step_time_us = part_array<float>(part, "step_time_us", p, steps, 1);
     views.push_back(std::move(v));
   }
@@ -268,6 +277,8 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
         r.status = static_cast<Pair_status>(v.status.data()[at]);
         r.degeneracy = static_cast<Degeneracy>(v.degeneracy.data()[at]);
         r.solved = v.solved.data()[at] != 0;
+        r.lower_bound.reset();
+        if (v.bounded.data()[at] != 0) r.lower_bound = v.lower_bound.data()[at];
       }
       rows.add(t, reports);
     }

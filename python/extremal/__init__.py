@@ -70,7 +70,8 @@ class Report:
 
     columns: the numeric columns of the CSV, each a NumPy array with one value per row
         (t, distance, ax, ay, az, bx, by, bz, nx, ny, nz as float64; face_a, face_b as int64;
-        ua, va, ub, vb as float64), also readable as attributes (report.distance) or by
+        ua, va, ub, vb, lower_bound as float64; lower_bound is NaN where a row has none: in
+        contact or overlapping), also readable as attributes (report.distance) or by
         indexing (report["distance"]).
     body_a, body_b, status, detail: lists of str, one per row.
     summary: dict keyed by (body_a, body_b), one per watched pair: rows, tracked_rows,
@@ -88,7 +89,7 @@ class Report:
     """
 
     NUMERIC = ("t", "distance", "ax", "ay", "az", "bx", "by", "bz", "nx", "ny", "nz",
-               "face_a", "face_b", "ua", "va", "ub", "vb")
+               "face_a", "face_b", "ua", "va", "ub", "vb", "lower_bound")
 
     def __init__(self, data):
         rows = data["rows"]
@@ -109,6 +110,7 @@ class Report:
         columns["face_b"] = _np.array([r["face_b"] for r in rows], dtype=_np.int64)
         for c, name in enumerate(("ua", "va", "ub", "vb")):
             columns[name] = floats(r["params"][c] for r in rows)
+        columns["lower_bound"] = floats(r["lower_bound"] for r in rows)
         self.columns = {name: columns[name] for name in self.NUMERIC}
         self.body_a = [r["body_a"] for r in rows]
         self.body_b = [r["body_b"] for r in rows]

@@ -1,6 +1,6 @@
 // Geometric helpers the body-pair tracker's stages share: box sizes, keys of primitive pairs,
 // the bound on how much closer a relative motion brings two boxes, parameters of a global
-// result on a primitive. Not API.
+// result on a primitive, the error budget's floor. Not API.
 #pragma once
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "algorithms/body_pair/Body_pair_options.h"
 #include "algorithms/body_pair/Tracking_model.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"
@@ -75,6 +76,13 @@ inline Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const R
 }
 
 // Mesh triangles against triangles or the point: closed forms, no tracker.
+// The least lower bound an apart row at distance d may carry and still be within the error
+// budget (d - Error_budget::at(d), less the rounding of that difference).
+inline double certified_floor(double d, const Error_budget& budget) {
+  const double allowed = budget.at(d);
+  return d - allowed - 4.0 * std::numeric_limits<double>::epsilon() * (std::abs(d) + allowed);
+}
+
 inline bool closed_form_pair(const Primitive& a, const Primitive& b) {
   const bool ta = a.kind == Primitive_kind::Triangle, tb = b.kind == Primitive_kind::Triangle;
   return (ta && (tb || b.kind == Primitive_kind::Point)) || (tb && a.kind == Primitive_kind::Point);

@@ -18,6 +18,7 @@ namespace extremal::internal {
 // no tracker holds a pair.
 struct Solved {
   double distance = 0.0;
+  double lower_bound = -HUGE_VAL;  // certified (the solver's): at most the true distance
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
   int pa = -1, pb = -1;  // primitives
   Vec4 params = Vec4::Zero();
@@ -69,6 +70,11 @@ class Pair_context {
   const Twist_3* V_B = nullptr;
   Rigid_pose_3 relative, previous_relative;  // X_AB at this step and the one before
   long steps = 0;                            // steps begun since construction
+
+  // The certified lower bound on the bodies' distance that the candidate stage's certification
+  // made at step `certified_at` (Candidate_stage::certify_apart; -1: none yet).
+  double certified_lower = -HUGE_VAL;
+  long certified_at = -1;
 
   Pair_statistics stats;
   Distance_workspace workspace;
