@@ -23,7 +23,7 @@
 // with --out).
 //
 // Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--budget E] [--out DIR]
-//                [--data DIR] [--mesh FILE] [a] [b] [c] [e]
+//                [--data DIR] [--mesh FILE] [a] [b] [c] [d] [e]
 // (--rate: only the tracker rows at that rate, for profiling one rate under callgrind;
 // --own-basin-gap: Body_pair_options::own_basin_gap of the body-pair rows; --budget: their
 // error budget, Body_pair_options::tolerance, absolute and relative alike.)
@@ -46,6 +46,7 @@
 #include "algorithms/pair/Extremal_tracker.h"
 #include "algorithms/distance/Global_distance.h"
 #include "algorithms/scene/Scene_stepper.h"
+#include "compare_assembly.h"
 #include "compare_meshes.h"
 #include "experiments/Egg_crate.h"
 #include "experiments/Ellipsoid_experiment.h"
@@ -789,14 +790,14 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc)
       large_mesh = argv[++i];
     else if (!std::strcmp(argv[i], "a") || !std::strcmp(argv[i], "b") || !std::strcmp(argv[i], "c") ||
-             !std::strcmp(argv[i], "e"))
+             !std::strcmp(argv[i], "d") || !std::strcmp(argv[i], "e"))
       only.push_back(argv[i]);
     else {
       const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
       if (!help) std::fprintf(stderr, "compare: unknown argument '%s'\n", argv[i]);
       std::fprintf(help ? stdout : stderr,
-                   "usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] "
-                   "[--out DIR] [--data DIR] [--mesh FILE] [a] [b] [c] [e]\n");
+                   "usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--budget E] "
+                   "[--out DIR] [--data DIR] [--mesh FILE] [a] [b] [c] [d] [e]\n");
       return help ? 0 : 2;
     }
   }
@@ -822,6 +823,7 @@ int main(int argc, char** argv) {
       Scenario c = step_parts(quick, data, ok);
       if (ok) run_scenario(c, quick, trackers_only, only_rate, own_basin_gap, budget, out_dir);
     }
+    if (wanted("d")) extremal::bench::run_assembly_scenario(quick, data);
     if (wanted("e")) extremal::bench::run_mesh_scenario(quick, data, large_mesh);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "compare: %s\n", e.what());
