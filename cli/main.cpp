@@ -1,6 +1,7 @@
 // The `extremal` command: batch distance reports, one-shot distances, file information,
 // tessellation.
 // Contract: docs/cli.md.
+#include <cmath>
 #include <exception>
 #include <iostream>
 #include <limits>
@@ -9,6 +10,26 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/Commands.h"
+
+namespace {
+
+// An error budget's value: a finite number > 0, and < 1 when `relative`.
+CLI::Validator budget_check(bool relative) {
+  return CLI::Validator(
+      [relative](std::string& value) -> std::string {
+        try {
+          std::size_t used = 0;
+          const double x = std::stod(value, &used);
+          if (used == value.size() && x > 0.0 && x < (relative ? 1.0 : HUGE_VAL)) return "";
+        } catch (const std::exception&) {
+        }
+        return std::string(relative ? "must be a number > 0 and < 1" : "must be a finite number > 0") +
+               " (an error budget), got '" + value + "'";
+      },
+      relative ? "0<R<1" : "A>0");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Extremal: exact distances between moving NURBS bodies"};
@@ -90,10 +111,10 @@ int main(int argc, char** argv) {
                          "Error budget, absolute (scene units): every apart row's lower_bound is "
                          "at least distance - max(A, R |distance|) (default 1e-9, or the scene's "
                          "\"tolerance\" key)")
-      ->check(CLI::PositiveNumber);
+      ->check(budget_check(false));
   CLI::Option* relative_tolerance_opt = report_cmd->add_option("--relative-tolerance", relative_tolerance,
                          "Error budget, relative to the distance (default 1e-9, or the scene's)")
-      ->check(CLI::Range(std::numeric_limits<double>::min(), 1.0 - 1e-16));
+      ->check(budget_check(true));
   report_cmd->add_flag("--quiet", report.quiet, "No summary, no progress bar");
 
   extremal::cli::Tessellate_options tessellate;
