@@ -31,6 +31,17 @@ Symmetry turn_axis(const Twist_3& V_A, const Rigid_pose_3& X_WA, const Twist_3& 
   return s;
 }
 
+// Whether bound proof p's sub-patch pair lies inside the parameter box of its element pair,
+// whose first element has na parameters.
+bool inside(const Parameter_box& box, int na, int nb, const Bound_proof& p) {
+  if (p.a_element != box.element_a || p.b_element != box.element_b) return false;
+  for (int k = 0; k < na; ++k)
+    if (!(p.a_lo[k] >= box.lo[k] && p.a_hi[k] <= box.hi[k])) return false;
+  for (int k = 0; k < nb; ++k)
+    if (!(p.b_lo[k] >= box.lo[na + k] && p.b_hi[k] <= box.hi[na + k])) return false;
+  return true;
+}
+
 }  // namespace
 
 unsigned Kept_proof_stage::carried_sides(int side, int p, int other, double tol) const {
@@ -342,6 +353,20 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       kept = false;
     }
     if (kept) ++m_context.stats.vacated_partial_solves;
+    // The watch's convex region about the tracked point, for the next steps' checks (a partial
+    // solve that did not reach the region keeps the one before: its box is re-certified at
+    // every use).
+    if (proof.stationary) {
+      if (const std::optional<Parameter_box> region = stationary_region(m_context.workspace)) {
+        C.region = *region;
+        C.has_region = true;
+        grow_region(C, A, B);
+      } else if (!kept) {
+        C.has_region = false;
+      }
+    } else {
+      C.has_region = false;
+    }
     C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
     C.at = m_context.relative;
     C.reach = g.carried_reach;
@@ -413,6 +438,35 @@ bool Kept_proof_stage::proofs_hold(const Candidate& C, std::array<double, 2>& re
   return true;
 }
 
+void Kept_proof_stage::grow_region(Candidate& C, const Primitive& A, const Primitive& B) {
+  // The solve certified the region only as large as the sub-patches about the tracked point
+  // when it got there; a smooth basin is often convex much farther (a wide, flat one most of
+  // all, whose sub-patches beside the region stay within the budget of its minimum): doubled
+  // about the point while convexity still holds, so that kept bounds inside it outlast the
+  // motion. Test Certificate.EveryApartRowsLowerBoundHoldsAgainstTheOneShotSolver.
+  if (C.tracked_slot < 0) return;
+  const Vec4& q = m_live[C.tracked_slot].result.params;
+  const std::array<double, 4> x{{q[0], q[1], q[2], q[3]}};
+  const int na = A.feature.dimension(), nb = B.feature.dimension();
+  const Distance_hierarchy& ha = m_context.model_a->hierarchy();
+  const Distance_hierarchy& hb = m_context.model_b->hierarchy();
+  for (int k = 0; k < k_region_doublings; ++k) {
+    Parameter_box wider = C.region;
+    for (int i = 0; i < na + nb; ++i) {
+      const Feature& f = i < na ? ha.elements()[C.region.element_a].feature
+                                : hb.elements()[C.region.element_b].feature;
+      const int j = i < na ? i : i - na;
+      const double half = C.region.hi[i] - C.region.lo[i];  // (twice the half-width)
+      wider.lo[i] = std::max(f.lower(j), x[i] - half);
+      wider.hi[i] = std::min(f.upper(j), x[i] + half);
+    }
+    if (!convex_region_lower(ha, *m_context.X_WA, hb, *m_context.X_WB, wider, x,
+                             m_context.workspace))
+      return;
+    C.region = wider;
+  }
+}
+
 double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {
   if (C.bound_count == 0) return -HUGE_VAL;
   Motions m(solves_of(C), m_context.relative);
@@ -424,14 +478,36 @@ double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {
   double closer[k_kept_solves];
   unsigned made = 0u;
   double lowest = HUGE_VAL;
+  // The carried region's bound at this pose, made on first need (NaN: not yet; -infinity: the
+  // region does not hold here, or the pair's tracker is not on it).
+  double region = std::numeric_limits<double>::quiet_NaN();
+  const int na = m_context.model_a->primitives()[key_a(C.key)].feature.dimension();
+  const int nb = m_context.model_b->primitives()[key_b(C.key)].feature.dimension();
+  auto region_now = [&] {
+    if (region == region) return region;
+    region = -HUGE_VAL;
+    if (!C.has_region || C.tracked_slot < 0) return region;
+    const Live& L = m_live[C.tracked_slot];
+    if (!L.valid || L.closed_form || !m_live.is_converged(L, k_converged_error)) return region;
+    const std::array<double, 4> x{{L.result.params[0], L.result.params[1], L.result.params[2],
+                                   L.result.params[3]}};
+    if (const std::optional<double> r =
+            convex_region_lower(m_context.model_a->hierarchy(), *m_context.X_WA,
+                                m_context.model_b->hierarchy(), *m_context.X_WB, C.region, x,
+                                m_context.workspace))
+      region = *r;
+    return region;
+  };
   for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
     const int k = m_bounds[i].solve;
     if (!(made & (1u << k))) {
       closer[k] = approach_bound(box_a, box_b, solves_of(C)[k].relative, m_context.relative).closer;
       made |= 1u << k;
     }
-    double b = m_bounds[i].proof.lower - closer[k];
-    if (!(b >= need)) b = std::max(b, bound_after_motion(m_bounds[i].proof, m.b(k), m.length(k)));
+    const Bound_proof& p = m_bounds[i].proof;
+    double b = p.lower - closer[k];
+    if (!(b >= need)) b = std::max(b, bound_after_motion(p, m.b(k), m.length(k)));
+    if (!(b >= need) && C.has_region && inside(C.region, na, nb, p)) b = std::max(b, region_now());
     lowest = std::min(lowest, b);
     if (lowest < need) break;
   }

@@ -67,7 +67,6 @@ bool Distance_solver::enclose_element(int side, int e, const double* lo, const d
 }
 
 bool Distance_solver::certify_region(internal::Known_solution& sol, const double* rho) {
-  using internal::Interval;
   const Feature& fa = feature(0, sol.ea);
   const Feature& fb = feature(1, sol.eb);
   const int na = fa.dimension(), nb = fb.dimension(), n = na + nb;
@@ -81,12 +80,24 @@ bool Distance_solver::certify_region(internal::Known_solution& sol, const double
     reg.lo[k] = std::max(f.lower(i), sol.params[k] - rho[k]);
     reg.hi[k] = std::min(f.upper(i), sol.params[k] + rho[k]);
   }
+  reg.given = sol.given;
+  if (!convex_over(sol.params, reg)) return false;
+  m_scratch.regions.push_back(reg);
+  return true;
+}
+
+bool Distance_solver::convex_over(const Vec4& x, internal::Convex_region& reg) {
+  using internal::Interval;
+  const Feature& fa = feature(0, reg.ea);
+  const Feature& fb = feature(1, reg.eb);
+  const int na = fa.dimension(), nb = fb.dimension(), n = na + nb;
+  if (n == 0) return false;
   Feature_point xa, xb;
-  evaluate_feature(fa, *m_side[0].X, sol.params.data(), xa, 2);
-  evaluate_feature(fb, *m_side[1].X, sol.params.data() + na, xb, 2);
+  evaluate_feature(fa, *m_side[0].X, x.data(), xa, 2);
+  evaluate_feature(fb, *m_side[1].X, x.data() + na, xb, 2);
   internal::Derivative_enclosure A, B;
-  if (!enclose_element(0, sol.ea, reg.lo, reg.hi, xa.p, A, 3) ||
-      !enclose_element(1, sol.eb, reg.lo + na, reg.hi + na, xb.p, B, 3))
+  if (!enclose_element(0, reg.ea, reg.lo, reg.hi, xa.p, A, 3) ||
+      !enclose_element(1, reg.eb, reg.lo + na, reg.hi + na, xb.p, B, 3))
     return false;
   // The Hessian of D over R as intervals: A's rows, then B's.
   Interval H[4][4];
@@ -150,7 +161,7 @@ bool Distance_solver::certify_region(internal::Known_solution& sol, const double
           const Interval dH =
               2.0 * (dot(R2[i][k], R1[j]) + dot(R1[i], R2[j][k]) + dot(R1[k], R2[i][j]) +
                      dot(r, R3[i][j][k]));
-          delta = delta + dH * Interval{reg.lo[k] - sol.params[k], reg.hi[k] - sol.params[k]};
+          delta = delta + dH * Interval{reg.lo[k] - x[k], reg.hi[k] - x[k]};
         }
         const Interval mv{h0 + delta.lo, h0 + delta.hi};
         const Interval both{std::max(H[i][j].lo, mv.lo), std::min(H[i][j].hi, mv.hi)};
@@ -196,13 +207,27 @@ bool Distance_solver::certify_region(internal::Known_solution& sol, const double
   double D = d.squaredNorm();
   for (int k = 0; k < n; ++k) {
     const double g = k < na ? 2.0 * d.dot(xa.d[k]) : -2.0 * d.dot(xb.d[k - na]);
-    D += std::min(g * (reg.lo[k] - sol.params[k]), g * (reg.hi[k] - sol.params[k]));
+    D += std::min(g * (reg.lo[k] - x[k]), g * (reg.hi[k] - x[k]));
   }
   // Rounding in D(x*) is a few ulps of the coordinates: m_resolution covers it.
   reg.lower = std::sqrt(std::max(0.0, D)) - m_resolution;
-  if (!std::isfinite(reg.lower)) return false;
-  m_scratch.regions.push_back(reg);
-  return true;
+  return std::isfinite(reg.lower);
+}
+
+std::optional<double> Distance_solver::convex_region_lower(const Parameter_box& box, const Vec4& x) {
+  if (box.element_a < 0 || box.element_b < 0) return std::nullopt;
+  internal::Convex_region reg;
+  reg.ea = box.element_a;
+  reg.eb = box.element_b;
+  const int n = feature(0, reg.ea).dimension() + feature(1, reg.eb).dimension();
+  for (int k = 0; k < n; ++k) {
+    if (!(x[k] >= box.lo[k] && x[k] <= box.hi[k])) return std::nullopt;
+    reg.lo[k] = box.lo[k];
+    reg.hi[k] = box.hi[k];
+  }
+  set_resolution();
+  if (!convex_over(x, reg)) return std::nullopt;
+  return reg.lower;
 }
 
 // Called for a popped pair of sub-patches: certifies a region about each uncertified solution

@@ -60,6 +60,23 @@ void Distance_solver::fill(Distance_result& r) const {
   r.nodes_created = static_cast<long>(m_side[0].pools->nodes.size() + m_side[1].pools->nodes.size());
 }
 
+void Distance_solver::set_resolution() {
+  // Floating-point resolution of the scene: coordinates are good to a few ulps of their size,
+  // in the world and in the body frames they were placed from (a part modelled in assembly
+  // coordinates, 1.7e3 from its frame's origin, placed near the world's: its world points
+  // carry the rounding of 1.7e3, and a ball through it read 2e-13 'apart').
+  double coord = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const Bbox_3& body = m_side[side].h->box();
+    const Bbox_3 world = transformed(body, *m_side[side].X);
+    for (int k = 0; k < 3; ++k)
+      coord = std::max({coord, std::abs(world.min(k)), std::abs(world.max(k)),
+                        std::abs(body.min(k)), std::abs(body.max(k)),
+                        std::abs(m_side[side].X->translation()[k])});
+  }
+  m_resolution = 16.0 * std::numeric_limits<double>::epsilon() * std::max(coord, 1e-300);
+}
+
 Distance_result Distance_solver::run() {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
@@ -84,20 +101,7 @@ Distance_result Distance_solver::run() {
     }
   }
 
-  // Floating-point resolution of the scene: coordinates are good to a few ulps of their size,
-  // in the world and in the body frames they were placed from (a part modelled in assembly
-  // coordinates, 1.7e3 from its frame's origin, placed near the world's: its world points
-  // carry the rounding of 1.7e3, and a ball through it read 2e-13 'apart').
-  double coord = 0.0;
-  for (int side = 0; side < 2; ++side) {
-    const Bbox_3& body = m_side[side].h->box();
-    const Bbox_3 world = transformed(body, *m_side[side].X);
-    for (int k = 0; k < 3; ++k)
-      coord = std::max({coord, std::abs(world.min(k)), std::abs(world.max(k)),
-                        std::abs(body.min(k)), std::abs(body.max(k)),
-                        std::abs(m_side[side].X->translation()[k])});
-  }
-  m_resolution = 16.0 * std::numeric_limits<double>::epsilon() * std::max(coord, 1e-300);
+  set_resolution();
 
   Distance_result result;
   if (m_req.cutoff < HUGE_VAL && m_req.cutoff > m_resolution) m_best.distance = m_req.cutoff;  // no witness yet (ea = -1)

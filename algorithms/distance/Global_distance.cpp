@@ -114,6 +114,31 @@ Distance_result extremal_distance_between(const Distance_hierarchy& A, const Rig
                           workspace);
 }
 
+std::optional<Parameter_box> stationary_region(const Distance_workspace& workspace) {
+  for (const Convex_region& r : workspace.scratch().regions) {
+    if (!r.given) continue;
+    Parameter_box box;
+    box.element_a = r.ea;
+    box.element_b = r.eb;
+    for (int k = 0; k < 4; ++k) {
+      box.lo[k] = r.lo[k];
+      box.hi[k] = r.hi[k];
+    }
+    return box;
+  }
+  return std::nullopt;
+}
+
+std::optional<double> convex_region_lower(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                          const Distance_hierarchy& B, const Rigid_pose_3& X_WB,
+                                          const Parameter_box& box, const std::array<double, 4>& x,
+                                          Distance_workspace& workspace) {
+  const Distance_request request;
+  const Proof_request proof;
+  Distance_solver solver(A, X_WA, B, X_WB, request, proof, workspace.scratch());
+  return solver.convex_region_lower(box, Vec4(x[0], x[1], x[2], x[3]));
+}
+
 }  // namespace internal
 
 Distance_result extremal_distance(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,

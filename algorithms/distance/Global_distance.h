@@ -195,6 +195,7 @@ class Distance_workspace {
   Distance_workspace(Distance_workspace&&) noexcept;
   Distance_workspace& operator=(Distance_workspace&&) noexcept;
   internal::Distance_scratch& scratch() { return *m_scratch; }
+  const internal::Distance_scratch& scratch() const { return *m_scratch; }
   // With Distance_request::keep_proofs: the pairs the last query set aside, and the pairs it
   // bounded.
   const std::vector<Gradient_proof>& gradient_proofs() const;

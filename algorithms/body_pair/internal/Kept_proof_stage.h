@@ -80,6 +80,12 @@ class Kept_proof_stage final : public Candidate_stage {
     // Its last restricted solve found the pair's own minimum, at or above the tracked one: a
     // stationary point no proving cutoff above the tracked minimum settles (certify_apart).
     bool holds_own_minimum = false;
+    // A tracked pair's watch: the region about its tracked point that its last solve certified
+    // convex (has_region). Kept bounds inside it are bounded after motion by that region's
+    // convexity, certified again at the current pose about the tracker's point, rather than by
+    // their hulls (bounds_now): the watch need not solve again at every step of the motion.
+    Parameter_box region;
+    bool has_region = false;
   };
   // The relative motion since each of a candidate's kept solves, as motions of B's points with
   // A held (b) or A's with B held (a), in those solves' world frames, and the lengths their
@@ -134,8 +140,12 @@ class Kept_proof_stage final : public Candidate_stage {
   // current relative pose; if so, `reach` gets how far each side may move from here on.
   bool proofs_hold(const Candidate& C, std::array<double, 2>& reach) const;
   // The smallest bound of the pairs C's last solve bounded, re-bounded at the current relative
-  // pose; stops early once one falls below `need`. -infinity if the solve kept none.
+  // pose (those inside C's carried region by its convexity about C's tracked point, when the
+  // hulls do not clear them); stops early once one falls below `need`. -infinity if the solve
+  // kept none.
   double bounds_now(const Candidate& C, double need) const;
+  // C's carried region, doubled about its tracked point while it stays certified convex.
+  void grow_region(Candidate& C, const Primitive& A, const Primitive& B);
   // Where C's kept proofs no longer clear `cutoff` at the current pose (a bound re-bounded
   // below it, a set-aside pair whose gradient proof fails or lasts less than `min_reach`):
   // their sub-patch pairs into m_restarts, the others marked kept (m_keep_bound, m_keep_proof)

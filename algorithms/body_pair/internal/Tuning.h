@@ -102,6 +102,9 @@ constexpr double k_same_pose = 1e-14;
 // A candidate keeps the proofs of at most this many solves (a partial solve adds one); past
 // it, the pair is solved anew. Set by bench compare (c) at 1 kHz.
 constexpr int k_kept_solves = 8;
+// A watch's convex region about the tracked point is doubled at most this many times after
+// its solve (Kept_proof_stage::grow_region). Set by bench compare (b) at 10 kHz.
+constexpr int k_region_doublings = 4;
 // The least slack of a restricted solve's cutoff, and the least gap of the own-basin watch,
 // in seeding tolerances. Shown by BodyScenes.AuditsOrTheWatchMoveATrackerToALowerBasinOfItsOwnPair.
 constexpr double k_seeding_slack = 4.0;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -74,6 +75,7 @@ struct Convex_region {
   int ea = -1, eb = -1;
   double lo[4] = {0, 0, 0, 0}, hi[4] = {0, 0, 0, 0};
   double lower = 0.0;
+  bool given = false;  // about Proof_request::stationary
 };
 
 // A node's enclosure of its first derivatives (holds_no_minimum), made once per node: a node
@@ -392,6 +394,9 @@ class Distance_solver {
   // With restrict_to: only these sub-patch pairs of the two elements.
   void start_from(const std::vector<Sub_patch_pair>& starts) { m_starts = &starts; }
   Distance_result run();
+  // Without run(): the lower bound convexity gives over `box` about x (inside it), if the
+  // squared distance is certified convex over the box at these poses (convex_region_lower).
+  std::optional<double> convex_region_lower(const Parameter_box& box, const Vec4& x);
 
  private:
   int m_only[2] = {-1, -1};
@@ -442,6 +447,11 @@ class Distance_solver {
   // Local convexity certificates around Newton solutions (see certify_region).
   void try_certify(const Live_node& a, const Live_node& b);
   bool certify_region(internal::Known_solution& sol, const double* rho);
+  // Whether |f_A - f_B|^2 is convex over reg's box (which holds x), and reg.lower the bound on
+  // the distance there that convexity about x gives.
+  bool convex_over(const Vec4& x, internal::Convex_region& reg);
+  // m_resolution, from the two bodies' coordinates at their poses.
+  void set_resolution();
   bool enclose_element(int side, int e, const double* lo, const double* hi, const Vec3& origin,
                        internal::Derivative_enclosure& out, int order);
   double region_bound(const Live_node& a, const Live_node& b) const;

@@ -57,6 +57,27 @@ struct Sub_patch_pair {
   std::array<double, 2> a_lo{{0, 0}}, a_hi{{0, 0}}, b_lo{{0, 0}}, b_hi{{0, 0}};
 };
 
+// A box of parameters of one element pair: element_a's, then element_b's right after them (a
+// face has two, a curve one, a point none), as Proof_request::stationary.
+struct Parameter_box {
+  int element_a = -1, element_b = -1;
+  std::array<double, 4> lo{{0, 0, 0, 0}}, hi{{0, 0, 0, 0}};
+};
+
+// The region about Proof_request::stationary that the last query on `workspace` certified
+// convex (every sub-patch pair inside it settled by that region's bound), if it did.
+std::optional<Parameter_box> stationary_region(const Distance_workspace& workspace);
+
+// Whether the squared distance of the box's element pair is certified convex over the whole
+// box at these poses (the interval Hessian positive definite there), and if so the lower bound
+// on the distance over the box that convexity about x (inside the box) gives: the distance at
+// x less its gradient's reach across the box. A tracked minimum's region, certified by a
+// solve, checked again after motion without solving (the own-basin watch's carried region).
+std::optional<double> convex_region_lower(const Distance_hierarchy& A, const Rigid_pose_3& X_WA,
+                                          const Distance_hierarchy& B, const Rigid_pose_3& X_WB,
+                                          const Parameter_box& box, const std::array<double, 4>& x,
+                                          Distance_workspace& workspace);
+
 // extremal_distance (Global_distance.h) with the proof request (of its fields, keep_proofs and
 // motion_axis apply to the whole bodies' query).
 [[nodiscard]] Distance_result extremal_distance(const Distance_hierarchy& A,
