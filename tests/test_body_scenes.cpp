@@ -83,6 +83,7 @@ struct Audit_stats {
   long nodes = 0;           // sub-patch nodes the restricted solves made
   long bound_checks = 0;  // checks whose bound ran out, cleared by re-bounding the solve's pairs
   long broad_phases = 0;
+  long located = 0;  // checks of pairs with one basin settled by Newton's method
   int max_trackers = 0, max_candidates = 0;
   std::vector<int> faces_a, faces_b;  // distinct reported faces
 };
@@ -162,6 +163,10 @@ Audit_stats run_audited(const char* name, const Body& a, const Body& b,
                     << " " << g.element_a << ", " << to_string(g.kind_b) << " " << g.element_b
                     << ", band " << band << ")";
     if (r.distance < g.lower_bound - 1e-12 * size) ++s.below_lower_bound;
+    // An apart row's certified lower bound is at most the true distance.
+    if (r.lower_bound && g.is_certified() && *r.lower_bound > g.upper_bound + 1e-12 * size + band)
+      ADD_FAILURE() << name << " t = " << t << ": lower bound " << *r.lower_bound
+                    << " above the certified distance " << g.distance;
   }
   (void)tracker.step(duration + dt, motion_a(duration + dt).pose, Twist_3{},
                      motion_b(duration + dt).pose, Twist_3{}, dt);
@@ -177,6 +182,7 @@ Audit_stats run_audited(const char* name, const Body& a, const Body& b,
   s.partial_solves = tracker.statistics().vacated_partial_solves;
   s.nodes = tracker.statistics().vacated_nodes;
   s.broad_phases = tracker.statistics().broad_phases;
+  s.located = tracker.statistics().located;
   std::printf("[ case     ] %-28s %ld corrections, %ld steps that ran all of them; %ld restricted "
               "solves (%ld partial, %ld nodes), %ld past their reach; instead, %ld set-aside proofs "
               "and %ld bounds checked again; %ld broad phases\n", name, s.corrections,
@@ -303,6 +309,109 @@ TEST(BodyScenes, StepPartAgainstAMovingSphere) {
   EXPECT_EQ(s.below_lower_bound, 0);
   EXPECT_GT(s.transitions, 0);
   EXPECT_GE(s.faces_a.size(), 2u);
+}
+
+TEST(BodyScenes, FlatAgainstConvexPairsNeedNoWatch) {
+  // as1's l-bracket: planar faces, straight and circular edges, cylinders. Against a ball (a
+  // convex body) and a point, a plane or a straight edge has one basin of distance: its
+  // tracked pairs need no watch for a second one, and its other pairs are settled by Newton's
+  // method (Pair_context::flat_single_basin). Rows are audited against the certified solver.
+  const io::Model m = io::read_model(shared_data("step/as1-oc-214-mat.stp"));
+  const Body* bracket = nullptr;
+  for (const Body& b : m.bodies)
+    if (b.name.find("l-bracket") != std::string::npos && (!bracket || b.faces.size() > bracket->faces.size()))
+      bracket = &b;
+  ASSERT_NE(bracket, nullptr);
+  const Tracking_model model(*bracket);
+  int flat_faces = 0, curved_faces = 0;
+  for (const Primitive& p : model.primitives()) {
+    if (p.kind != Primitive_kind::Face) continue;
+    const std::string& kind = bracket->faces[p.index].kind;
+    if (kind == "plane") {
+      EXPECT_LE(p.flatness, 1e-9 * box_diagonal(p.box)) << "face " << p.index;
+      ++flat_faces;
+    }
+    curved_faces += p.flatness == HUGE_VAL;  // (its holes' rational B-spline sides)
+  }
+  EXPECT_GT(flat_faces, 0);
+  EXPECT_GT(curved_faces, 0);
+  const Bbox_3 box = transformed(bracket->trimmed_bbox(), bracket->placement);
+  const double size = box_diagonal(box);
+  const Vec3 low(box.xmin(), 0.5 * (box.ymin() + box.ymax()) + 0.07 * size, box.zmax());
+  auto pass = [&](double lift, double speed) {
+    return [=](double t) {
+      const Vec3 p = low + Vec3(-0.2 * size + speed * t, 0.0, lift);
+      return Pose_and_twist{pose_of(p), twist(Vec3(speed, 0.0, 0.0), Vec3::Zero())};
+    };
+  };
+  auto still = [&](double) { return Pose_and_twist{bracket->placement, Twist_3{}}; };
+  const Body ball = make_sphere_body(0.05 * size);
+  const Audit_stats b = run_audited("l-bracket / ball", *bracket, ball, still,
+                                    pass(0.08 * size, 1.4 * size), 1.0, 0.01, 1);
+  EXPECT_LE(b.worst_relative, 1e-9);
+  EXPECT_EQ(b.below_lower_bound, 0);
+  EXPECT_GT(b.located, 0);
+  const Body probe = make_point_body();
+  const Audit_stats p = run_audited("l-bracket / point", *bracket, probe, still,
+                                    pass(0.01 * size, 1.4 * size), 1.0, 0.01, 1);
+  EXPECT_LE(p.worst_relative, 1e-9);
+  EXPECT_EQ(p.below_lower_bound, 0);
+  EXPECT_GT(p.located, 0);
+}
+
+TEST(BodyScenes, ABallIsTrackedAsItsCentre) {
+  // A ball's distance to a closed body is its centre's less its radius: a ball (r = 0.5)
+  // sweeps down through a solid cylinder's top cap at a slant, from apart through contact and
+  // a penetration deeper than its radius (the centre inside: its surface tracked) and back up.
+  // Every row against the closed form; the ball's witness lies on the ball, its parameters
+  // give it, and an apart row's bound is at most the distance. (Tracked as its surface, a ball
+  // over a part solved its near basins again at nearly every step.)
+  const double r = 0.5, rho = 2.0, h = 6.0;
+  const Body ball = make_sphere_body(r), cylinder = make_cylinder_body(rho, h);
+  auto exact = [&](const Vec3& c) {
+    const double dr = std::hypot(c.x(), c.y()) - rho, dz = std::max(-c.z(), c.z() - h);
+    const double s = dr <= 0.0 && dz <= 0.0 ? std::max(dr, dz)
+                                            : std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
+    return s - r;
+  };
+  Body_pair_tracker tracker(cylinder, ball);
+  const Nurbs_surface_3& sphere = ball.faces.front().surface;
+  const double dt = 1e-2;
+  double worst = 0.0, worst_witness = 0.0;
+  int apart = 0, deep = 0;
+  for (int i = 0; i <= 300; ++i) {
+    const double t = i * dt;
+    const double z = h + 1.5 - 2.4 * std::sin(t * k_pi / 3.0);  // down to 0.9 below the cap
+    const Vec3 c(-1.0 + t, 0.3, z);
+    const Vec3 v(1.0, 0.0, -2.4 * k_pi / 3.0 * std::cos(t * k_pi / 3.0));
+    const Pair_report& row = tracker.step(t, Rigid_pose_3(), Twist_3{}, pose_of(c), twist(v, Vec3::Zero()), dt);
+    const double e = exact(c);
+    worst = std::max(worst, std::abs(row.distance - e));
+    apart += e > 1e-6;
+    deep += e < -r;
+    if (e > 1e-6) {
+      ASSERT_TRUE(row.lower_bound) << "t = " << t;
+      EXPECT_LE(*row.lower_bound, e + 1e-12) << "t = " << t;
+    }
+    EXPECT_NEAR((row.point_b - c).norm(), r, 1e-12) << "t = " << t;
+    Surface_point p;
+    sphere.evaluate(row.params[2], row.params[3], p, 0);
+    worst_witness = std::max(worst_witness, (p.p + c - row.point_b).norm());
+  }
+  EXPECT_LE(worst, 1e-9);
+  EXPECT_LE(worst_witness, 1e-6 * r);  // (at a pole Newton stops just short of it)
+  EXPECT_GT(apart, 50);
+  EXPECT_GT(deep, 10);
+  // Two balls: exactly the centres' distance less both radii, apart or overlapping.
+  const Body other = make_sphere_body(0.8);
+  Body_pair_tracker balls(ball, other);
+  for (int i = 0; i <= 100; ++i) {
+    const double t = i * dt;
+    const Vec3 c(2.0 - 2.5 * t, 0.2, 0.1);
+    const Pair_report& row = balls.step(t, Rigid_pose_3(), Twist_3{}, pose_of(c),
+                                        twist(Vec3(-2.5, 0.0, 0.0), Vec3::Zero()), dt);
+    EXPECT_NEAR(row.distance, c.norm() - 1.3, 1e-12) << "t = " << t;
+  }
 }
 
 TEST(BodyScenes, EveryStepFileOfTheSharedDataGivesATrackingModel) {
@@ -697,22 +806,24 @@ TEST(BodyScenes, TwoBodiesOfTheAs1AssemblyInRelativeMotion) {
 }
 
 TEST(BodyScenes, MeshAgainstNurbsAndMeshAgainstMesh) {
-  // A triangle mesh (binary PLY cube, 12 triangles) against a moving NURBS sphere, and two
-  // meshes against each other: exact per triangle, audited by the global solver (which
-  // treats triangles as flat patches).
+  // A triangle mesh (binary PLY cube, 12 triangles) against a moving NURBS ellipsoid (a ball
+  // would be tracked as its centre: BodyScenes.ABallIsTrackedAsItsCentre), and two meshes
+  // against each other: exact per triangle, audited by the global solver (which treats
+  // triangles as flat patches).
   const io::Model cube = io::read_model(shared_data("mesh/cube_binary.ply"));
   ASSERT_EQ(cube.bodies.size(), 1u);
   const Body& mesh = cube.bodies[0];
   ASSERT_EQ(mesh.mesh.triangles.size(), 12u);
   const Bbox_3 box = mesh.hull_bbox();
   const double size = box.xmax() - box.xmin();
-  const Body ball = make_sphere_body(0.3 * size);
-  auto ball_motion = [&](double t) {
+  const Body ellipsoid = make_ellipsoid_body(0.3 * size, 0.25 * size, 0.2 * size);
+  auto ellipsoid_motion = [&](double t) {
     const Vec3 p(box.xmin() - 0.5 * size + 2.0 * size * t / 2.0, 0.5 * (box.ymin() + box.ymax()) + 0.2 * size,
-                 box.zmax() + 0.4 * size);
+                 box.zmax() + 0.3 * size);
     return Pose_and_twist{pose_of(p), twist(Vec3(size, 0, 0), Vec3::Zero())};
   };
-  const Audit_stats s1 = run_audited("cube mesh / sphere", mesh, ball, at_rest, ball_motion, 2.0, 0.01);
+  const Audit_stats s1 =
+      run_audited("cube mesh / ellipsoid", mesh, ellipsoid, at_rest, ellipsoid_motion, 2.0, 0.01);
   EXPECT_LE(s1.worst_relative, 1e-9);
   EXPECT_GT(s1.transitions, 0);  // the nearest point crosses triangle edges
   auto cube_motion = [&](double t) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "algorithms/body_pair/internal/Ball_offset.h"
 #include "algorithms/body_pair/internal/Body_pair_support.h"
 #include "algorithms/body_pair/internal/Depth_monitor.h"
 #include "algorithms/body_pair/internal/Kept_proof_stage.h"
@@ -11,6 +12,7 @@
 #include "algorithms/body_pair/internal/Mesh_pair_stage.h"
 #include "algorithms/body_pair/internal/Pair_context.h"
 #include "algorithms/body_pair/internal/Pair_seeding.h"
+#include "algorithms/body_pair/internal/Tuning.h"
 #include "kernel/Error.h"
 
 namespace extremal {
@@ -97,8 +99,10 @@ int report_feature(const Tracking_model& m, int p, const double* q, double* out,
 // that changed the live set, settle() steps its new trackers and reads the tracked minimum.
 struct Body_pair_tracker::Stages {
   Stages(std::shared_ptr<const Tracking_model> a, std::shared_ptr<const Tracking_model> b,
-         const Body_pair_options& options)
-      : context(std::move(a), std::move(b), options), live(context), seeding(context, live),
+         const Body_pair_options& options, bool centres = true)
+      : balls(std::move(a), std::move(b), centres), given(options),
+        context(balls.inner(0), balls.inner(1), inner_options(balls, options)), live(context),
+        seeding(context, live),
         candidates(std::make_unique<internal::Kept_proof_stage>(context, live, seeding)),
         depth(context, live, seeding) {
     seeding.attach(*candidates);
@@ -107,6 +111,16 @@ struct Body_pair_tracker::Stages {
                                                            context.options);
   }
 
+  // The options the stages run with: a ball tracked as its centre is farther by its radius.
+  static Body_pair_options inner_options(const internal::Ball_offset& balls,
+                                         const Body_pair_options& options) {
+    Body_pair_options o = options;
+    if (o.threshold > 0.0) o.threshold += balls.radii();
+    return o;
+  }
+  // The step of the stages' bodies (a ball's centre in its place).
+  const Pair_report& step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
+                          const Rigid_pose_3& X_WB, const Twist_3& V_B, double dt);
   bool is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const;
   void start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Steps every pending tracker and reads the tracked minimum.
@@ -123,6 +137,14 @@ struct Body_pair_tracker::Stages {
   void audit(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   void fill_report();
 
+  // Balls tracked as their centres (internal/Ball_offset.h), and the options as given.
+  internal::Ball_offset balls;
+  Body_pair_options given;
+  Pair_report given_report;
+  // The bodies as given, tracked while a ball's centre lies inside the other body (made on
+  // first use; `deep`: it answers).
+  std::unique_ptr<Stages> whole;
+  bool deep = false;
   internal::Pair_context context;
   internal::Live_set live;
   internal::Pair_seeding seeding;
@@ -331,23 +353,62 @@ Body_pair_tracker::Body_pair_tracker(Body_pair_tracker&&) noexcept = default;
 Body_pair_tracker& Body_pair_tracker::operator=(Body_pair_tracker&&) noexcept = default;
 
 const Pair_statistics& Body_pair_tracker::statistics() const { return m->context.stats; }
-const std::vector<Feature>& Body_pair_tracker::features_a() const { return m->context.features_a; }
-const std::vector<Feature>& Body_pair_tracker::features_b() const { return m->context.features_b; }
-const Tracking_model& Body_pair_tracker::model_a() const { return *m->context.model_a; }
-const Tracking_model& Body_pair_tracker::model_b() const { return *m->context.model_b; }
+const std::vector<Feature>& Body_pair_tracker::features_a() const { return m->balls.given_features(0); }
+const std::vector<Feature>& Body_pair_tracker::features_b() const { return m->balls.given_features(1); }
+const Tracking_model& Body_pair_tracker::model_a() const { return *m->balls.given(0); }
+const Tracking_model& Body_pair_tracker::model_b() const { return *m->balls.given(1); }
 
 void Body_pair_tracker::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
   if (m->meshes) {  // (the first step makes the front)
     m->meshes->reset();
     return;
   }
-  m->start(X_WA, X_WB);
+  if (!m->balls.any()) {
+    m->start(X_WA, X_WB);
+    return;
+  }
+  Rigid_pose_3 XA, XB;
+  Twist_3 VA, VB;
+  m->balls.place(0, X_WA, Twist_3{}, XA, VA);
+  m->balls.place(1, X_WB, Twist_3{}, XB, VB);
+  m->start(XA, XB);
 }
 
 const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
                                            const Rigid_pose_3& X_WB, const Twist_3& V_B,
                                            double dt) {
   Stages& s = *m;
+  if (!s.balls.any()) return s.step(t, X_WA, V_A, X_WB, V_B, dt);
+  // A ball deep in the other body: its surface tracked, until its centre is back out by a
+  // fraction of its radius (then the centre's stages start again).
+  const double radii = s.balls.radii();
+  if (s.deep) {
+    const Pair_report& r = s.whole->step(t, X_WA, V_A, X_WB, V_B, dt);
+    if (!(r.distance > -(1.0 - internal::k_ball_leaves) * radii)) return r;
+    s.deep = false;
+    s.started = false;
+  }
+  // A ball as its centre: its pair's stages on the centre, certified at the given budget.
+  Rigid_pose_3 XA, XB;
+  Twist_3 VA, VB;
+  s.balls.place(0, X_WA, V_A, XA, VA);
+  s.balls.place(1, X_WB, V_B, XB, VB);
+  s.context.options.tolerance = s.balls.inner_budget(s.given.tolerance, X_WA, X_WB);
+  const Pair_report& inner = s.step(t, XA, VA, XB, VB, dt);
+  if (inner.status != Pair_status::Farther && !(inner.distance > internal::k_ball_enters * radii)) {
+    if (!s.whole) s.whole = std::make_unique<Stages>(s.balls.given(0), s.balls.given(1), s.given, false);
+    s.whole->started = false;
+    s.deep = true;
+    return s.whole->step(t, X_WA, V_A, X_WB, V_B, dt);
+  }
+  s.balls.report(inner, s.given, X_WA, X_WB, s.given_report);
+  return s.given_report;
+}
+
+const Pair_report& Body_pair_tracker::Stages::step(double t, const Rigid_pose_3& X_WA,
+                                                   const Twist_3& V_A, const Rigid_pose_3& X_WB,
+                                                   const Twist_3& V_B, double dt) {
+  Stages& s = *this;
   internal::Pair_context& c = s.context;
   Pair_report& r = s.report;
   r.time = t;

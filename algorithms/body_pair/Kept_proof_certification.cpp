@@ -164,8 +164,12 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     // Pairs not watched or not certifiable: a converged tracked reading is the pair's minimum
     // between convex bodies, and a closed form's is exact; otherwise the last certified bound,
     // decayed, or the boxes.
-    if ((held && !watch) || !certifiable(pa, pb)) {
-      const bool exact = held && (!watch || m_live[C.tracked_slot].closed_form);
+    // (A flat pair, or a flat primitive against a convex body, has one basin: its converged
+    // tracker reads its minimum. Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.)
+    const bool one_basin = held && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance) &&
+                           m_live.is_converged(m_live[C.tracked_slot], k_converged_error);
+    if ((held && (!watch || one_basin)) || !certifiable(pa, pb)) {
+      const bool exact = held && (!watch || one_basin || m_live[C.tracked_slot].closed_form);
       double lower = exact ? C.tracked_distance
                            : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
       if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
@@ -234,6 +238,43 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       m_kept_bound_total -= C.bound_count;
       C.proof_count = C.bound_count = C.solve_count = 0;
       continue;
+    }
+    // A pair with one basin: its stationary point by Newton's method, not the branch and bound.
+    // Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.
+    if (!held && m_context.single_basin_locatable(pa, pb, best)) {
+      Vec4 params;
+      if (const std::optional<double> located = locate_single_basin(C, pa, pb, params)) {
+        ++m_context.stats.located;
+        m_kept_proof_total -= C.proof_count;
+        m_kept_bound_total -= C.bound_count;
+        C.proof_count = C.bound_count = C.solve_count = 0;
+        C.reach = {HUGE_VAL, HUGE_VAL};
+        C.reach_at = m_context.relative;
+        C.carried = {0u, 0u};
+        C.at = m_context.relative;
+        // (Off the primitives: the pair is located again at its next check, from the boxes.)
+        C.lower = *located < HUGE_VAL ? *located : boxes;
+        if (*located >= need) {
+          certified = std::min(certified, *located);
+          continue;
+        }
+        // A closer basin: tracked from here on (on the primitives: a point held on a patch
+        // side that is no edge of a face is solved instead).
+        const int na = A.feature.dimension();
+        if (!m_context.model_a->contains(pa, params.data()) ||
+            !m_context.model_b->contains(pb, params.data() + na)) {
+          C.lower = -HUGE_VAL;
+        } else {
+        certified = std::min(certified, *located);
+        if (*located <= m_context.options.contact_tolerance) meet = true;
+        const int slot = m_live.add(pa, pb, params);
+        m_live[slot].seeded_apart = true;
+        ++m_context.stats.seeds;
+        ++m_context.stats.vacated_seeds;
+        C.tracked = true;
+        continue;
+        }
+      }
     }
     // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
     // pair when it holds something closer than the tracked minimum, and otherwise leaves a
@@ -465,6 +506,54 @@ void Kept_proof_stage::grow_region(Candidate& C, const Primitive& A, const Primi
       return;
     C.region = wider;
   }
+}
+
+std::optional<double> Kept_proof_stage::locate_single_basin(Candidate& C, int pa, int pb,
+                                                            Vec4& params) {
+  const Primitive& A = m_context.primitive(0, pa);
+  const Primitive& B = m_context.primitive(1, pb);
+  const int na = A.feature.dimension(), n = na + B.feature.dimension();
+  if (C.has_located) {
+    params = C.located;
+  } else {
+    params.setZero();
+    for (int k = 0; k < n; ++k) {
+      const Feature& f = k < na ? A.feature : B.feature;
+      const int i = k < na ? k : k - na;
+      params[k] = 0.5 * (f.lower(i) + f.upper(i));
+    }
+  }
+  Tracker_options o = m_context.options.tracker;
+  o.corrections = k_locate_corrections;
+  o.correction_tolerance = k_locate_tolerance;
+  Extremal_tracker tracker(A.feature, B.feature, params, o);
+  const Twist_3 rest;
+  const Track_result& r =
+      tracker.step(m_context.t, *m_context.X_WA, rest, *m_context.X_WB, rest, m_context.dt);
+  params = r.params;
+  if (r.degeneracy != Degeneracy::None || !(r.distance > m_context.options.contact_tolerance))
+    return std::nullopt;
+  for (int k = 0; k < n; ++k)
+    if (!(r.on_edge & (1u << k)) && !(std::abs(r.normalised_errors[k]) <= k_locate_converged))
+      return std::nullopt;
+  C.located = params;
+  C.has_located = true;
+  // Off the primitives (held on a patch side, or outside a trim): the least over the patches
+  // lies on a side or the pair's least on the body lies on its border; either way on edges
+  // that carry it, when every side and trim of both is carried.
+  const Distance_hierarchy::Element& ea = m_context.model_a->hierarchy().elements()[A.global_element];
+  const Distance_hierarchy::Element& eb = m_context.model_b->hierarchy().elements()[B.global_element];
+  const unsigned mask_a = (1u << na) - 1u;
+  const bool off_a = (r.on_edge & mask_a) != 0u || !m_context.model_a->contains(pa, params.data());
+  const bool off_b = (r.on_edge & ~mask_a) != 0u || !m_context.model_b->contains(pb, params.data() + na);
+  const bool off = off_a || off_b;
+  const bool carried = (!off_a || ea.open_sides == 0u) && (!off_b || eb.open_sides == 0u);
+  if (off) {
+    if (carried) return HUGE_VAL;
+    // (Held on a side, the least over the patch, which bounds the pair but is no seed.)
+    if (r.on_edge == 0u) return std::nullopt;
+  }
+  return r.distance;
 }
 
 double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {

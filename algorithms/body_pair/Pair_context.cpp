@@ -60,7 +60,9 @@ double Pair_context::length() const {
 
 double Pair_context::reach_margin() const {
   if (options.broad_margin > 0.0) return options.broad_margin;
-  return k_default_broad_margin * std::min(box_diagonal(model_a->box()), box_diagonal(model_b->box()));
+  // (A point's box has no size: the other body's sets the margin.)
+  const double a = box_diagonal(model_a->box()), b = box_diagonal(model_b->box());
+  return k_default_broad_margin * (a > 0.0 && b > 0.0 ? std::min(a, b) : std::max(a, b));
 }
 
 Distance_result Pair_context::global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
@@ -98,6 +100,30 @@ bool Pair_context::convex() {
   if (m_convex < 0)
     m_convex = is_certified_convex(model_a->body()) && is_certified_convex(model_b->body());
   return m_convex == 1;
+}
+
+bool Pair_context::convex_body(int side) {
+  signed char& c = m_convex_body[side];
+  if (c < 0) c = is_certified_convex(model(side).body()) ? 1 : 0;
+  return c == 1;
+}
+
+bool Pair_context::flat_single_basin(int pa, int pb, double d) {
+  const double fa = primitive(0, pa).flatness, fb = primitive(1, pb).flatness;
+  const double budget = k_flat_budget * options.tolerance.at(d);
+  if (fa < HUGE_VAL && fb < HUGE_VAL) return fa + fb <= budget;
+  if (fa < HUGE_VAL) return fa <= budget && convex_body(1);
+  if (fb < HUGE_VAL) return fb <= budget && convex_body(0);
+  return false;
+}
+
+bool Pair_context::single_basin_locatable(int pa, int pb, double d) {
+  if (!flat_single_basin(pa, pb, d)) return false;
+  const Primitive& A = primitive(0, pa);
+  const Primitive& B = primitive(1, pb);
+  // (Two flat primitives of dimension 1 or 2 may be parallel: a continuum of minima.)
+  const bool a_curved = !(A.flatness < HUGE_VAL), b_curved = !(B.flatness < HUGE_VAL);
+  return A.feature.dimension() == 0 || B.feature.dimension() == 0 || a_curved || b_curved;
 }
 
 double Pair_context::depth_tolerance(double depth) const {

@@ -93,6 +93,8 @@ struct Pair_statistics {
   // Of those solves, the ones that solved again only the sub-patch pairs whose kept proofs no
   // longer cleared it (the rest of the pair's domain kept its proofs).
   long vacated_partial_solves = 0;
+  // Checks of pairs with one basin settled by Newton's method instead of a solve.
+  long located = 0;
   // Checks past the reach whose set-aside proofs all still held at the current pose: no solve.
   long vacated_proof_checks = 0;
   // Checks whose carried bound ran out but whose last solve's bounded pairs, re-bounded at the

@@ -7,9 +7,12 @@
 #include <limits>
 #include <numeric>
 
+#include "algorithms/body_pair/internal/Tuning.h"
 #include "algorithms/distance/Solid_classification.h"
 #include "kernel/Error.h"
 #include "kernel/Nurbs_refinement.h"
+
+#include <Eigen/Eigenvalues>
 
 namespace extremal {
 
@@ -231,6 +234,56 @@ void Tracking_model::build_primitives() {
   add_mesh();
   match_patch_sides();
   build_tree();
+  measure_flatness();
+}
+
+namespace {
+
+// The largest distance of the points from their best plane (dimension 2) or line (dimension 1):
+// the smallest principal direction's (or the two smaller ones') extent about the centroid.
+double spread_off(const std::vector<Vec3>& points, int dimension) {
+  if (points.empty()) return HUGE_VAL;
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& p : points) c += p;
+  c /= static_cast<double>(points.size());
+  Mat3 cov = Mat3::Zero();
+  for (const Vec3& p : points) cov += (p - c) * (p - c).transpose();
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(cov);
+  if (eigen.info() != Eigen::Success) return HUGE_VAL;
+  const Mat3 axes = eigen.eigenvectors();  // columns by increasing eigenvalue
+  double off = 0.0;
+  for (const Vec3& p : points) {
+    const Vec3 d = p - c;
+    const double across = dimension == 2 ? std::abs(axes.col(0).dot(d))
+                                         : std::hypot(axes.col(0).dot(d), axes.col(1).dot(d));
+    off = std::max(off, across);
+  }
+  return off;
+}
+
+}  // namespace
+
+void Tracking_model::measure_flatness() {
+  std::vector<Vec3> points;
+  for (Primitive& p : m_primitives) {
+    const int dim = p.feature.dimension();
+    points.clear();
+    if (dim == 0) {
+      p.flatness = 0.0;
+      continue;
+    }
+    if (p.kind == Primitive_kind::Triangle || p.kind == Primitive_kind::Mesh_edge) {
+      p.flatness = 0.0;  // (a triangle is planar, a mesh edge straight)
+      continue;
+    }
+    if (const Nurbs_surface_3* f = p.feature.surface())
+      for (const Point_3& q : f->poles()) points.emplace_back(q.x(), q.y(), q.z());
+    else if (const Nurbs_curve_3* c = p.feature.curve())
+      for (const Point_3& q : c->poles()) points.emplace_back(q.x(), q.y(), q.z());
+    const double off = spread_off(points, dim);
+    // (The primitive lies in its control points' hull: within `off` of the plane or line.)
+    p.flatness = off <= internal::k_flat_fraction * box_diagonal(p.box) ? off : HUGE_VAL;
+  }
 }
 
 void Tracking_model::add_brep_edges() {

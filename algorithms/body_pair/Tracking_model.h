@@ -53,6 +53,11 @@ struct Primitive {
   // Surfaces: their bounding edges; edges: the faces that use them (ranges into the model's
   // link lists).
   int first_link = 0, link_count = 0;
+  // How far the primitive lies from a plane (faces, triangles), a line (curves, edges) or a
+  // point (the point body: 0), from its control points; infinity when it is not that flat
+  // (Tuning's k_flat_fraction of its size). A flat primitive against a flat one, or against a
+  // convex body, has one basin of distance (flat_single_basin).
+  double flatness = HUGE_VAL;
 
   bool is_surface() const { return feature.dimension() == 2; }
   bool is_mesh() const { return kind == Primitive_kind::Triangle || kind == Primitive_kind::Mesh_edge; }
@@ -128,6 +133,8 @@ class Tracking_model {
   void add_mesh();
   void match_patch_sides();
   void build_tree();
+  // Primitive::flatness of every primitive.
+  void measure_flatness();
   // Sorts (face primitive, edge primitive) links and stores them per face (CSR).
   void link_faces_to_edges(std::vector<std::pair<int, int>>& face_edge);
 

@@ -13,6 +13,10 @@
 
 namespace extremal {
 
+// certified_ball: sampled points and the net's box agree with the ball to this fraction of its
+// radius (a rational quadratic sphere: to rounding).
+constexpr double k_ball_agreement = 1e-12;
+
 namespace {
 using internal::Hom;
 using Hom_vector = std::vector<Hom, Eigen::aligned_allocator<Hom>>;
@@ -165,6 +169,32 @@ bool is_certified_convex(const Body& body) {
   const Face& f = body.faces.front();
   if (!f.trims.empty() || (f.kind != "sphere" && f.kind != "ellipsoid")) return false;
   return body_closedness(body).closed;
+}
+
+std::optional<Ball> certified_ball(const Body& body) {
+  if (!is_certified_convex(body) || body.is_point || body.faces.front().kind != "sphere")
+    return std::nullopt;
+  const Nurbs_surface_3& s = body.faces.front().surface;
+  // The control net of a whole sphere is symmetric about its centre, and so is its box.
+  const Bbox_3 box = s.hull_bbox();
+  Ball b;
+  b.centre = Vec3(0.5 * (box.xmin() + box.xmax()), 0.5 * (box.ymin() + box.ymax()),
+                  0.5 * (box.zmin() + box.zmax()));
+  constexpr int k_samples = 9;
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int i = 0; i < k_samples; ++i)
+    for (int j = 0; j < k_samples; ++j) {
+      const double u = s.u_min() + (s.u_max() - s.u_min()) * i / (k_samples - 1);
+      const double v = s.v_min() + (s.v_max() - s.v_min()) * j / (k_samples - 1);
+      Surface_point p;
+      s.evaluate(u, v, p, 0);
+      const double r = (p.p - b.centre).norm();
+      lo = std::min(lo, r);
+      hi = std::max(hi, r);
+    }
+  b.radius = 0.5 * (lo + hi);
+  if (!(hi - lo <= k_ball_agreement * b.radius) || !(b.radius > 0.0)) return std::nullopt;
+  return b;
 }
 
 // ---- Winding number ------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "algorithms/distance/Distance_hierarchy.h"
@@ -21,6 +22,16 @@ Closedness body_closedness(const Body& body);
 
 // Cheaply certified convex: a point body, or one untrimmed sphere or ellipsoid face.
 bool is_certified_convex(const Body& body);
+
+// A ball: its centre (body frame) and radius.
+struct Ball {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0.0;
+};
+// The ball a body bounds, when it is one closed untrimmed face of kind "sphere" whose points
+// (sampled on a grid, and its control net's box) agree with that ball to k_ball_agreement of its
+// radius: distances to it are those to its centre less its radius.
+std::optional<Ball> certified_ball(const Body& body);
 
 struct Winding_number {
   double value = 0.0;      // the quadrature's value

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "algorithms/body_pair/internal/Candidate_stage.h"
@@ -86,6 +87,10 @@ class Kept_proof_stage final : public Candidate_stage {
     // their hulls (bounds_now): the watch need not solve again at every step of the motion.
     Parameter_box region;
     bool has_region = false;
+    // A pair with one basin (Pair_context::single_basin_locatable): the parameters its last
+    // Newton solve ended at, where the next starts.
+    Vec4 located = Vec4::Zero();
+    bool has_located = false;
   };
   // The relative motion since each of a candidate's kept solves, as motions of B's points with
   // A held (b) or A's with B held (a), in those solves' world frames, and the lengths their
@@ -144,6 +149,14 @@ class Kept_proof_stage final : public Candidate_stage {
   // hulls do not clear them); stops early once one falls below `need`. -infinity if the solve
   // kept none.
   double bounds_now(const Candidate& C, double need) const;
+  // For an untracked pair with one basin (Pair_context::single_basin_locatable): Newton's
+  // method from C's last located parameters (or the domains' middles) to the pair's one
+  // stationary point over its patches. Its certified bound at this pose: that point's distance
+  // (the least over the patches), or infinity where the point lies off the primitives (outside
+  // a trim, or held on a patch side) whose borders are all carried by edges, whose pairs are
+  // candidates or beyond the broad phase's reach. None when Newton did not converge (the pair
+  // is solved). `params` gets the point.
+  std::optional<double> locate_single_basin(Candidate& C, int pa, int pb, Vec4& params);
   // C's carried region, doubled about its tracked point while it stays certified convex.
   void grow_region(Candidate& C, const Primitive& A, const Primitive& B);
   // Where C's kept proofs no longer clear `cutoff` at the current pose (a bound re-bounded

@@ -35,7 +35,7 @@ class Pair_context {
   // The larger body's box diagonal (the length rounding and merges scale with).
   double length() const;
   // The broad phase's margin: Body_pair_options::broad_margin, or a fraction of the smaller
-  // body (Tuning.h).
+  // body (against a point, of the other; Tuning.h).
   double reach_margin() const;
   // The depth search's tolerance at `depth` (Body_pair_options::overlap).
   double depth_tolerance(double depth) const;
@@ -45,6 +45,17 @@ class Pair_context {
   double boxes_bound();
   // Whether both bodies are certified convex (made on first use).
   bool convex();
+  // Whether body `side` (0 A, 1 B) is certified convex (made on first use).
+  bool convex_body(int side);
+  // Whether the distance between primitives pa and pb apart has at most one basin inside
+  // their domains, within the error budget at distance d: both flat, or one flat and the other
+  // on a convex body (a convex function restricted to a plane or a line), each flat within a
+  // fraction of the budget (k_flat_budget). A converged tracker on such a pair reads its
+  // minimum over the domains' insides (their borders are their edges' pairs).
+  bool flat_single_basin(int pa, int pb, double d);
+  // flat_single_basin with its stationary point unique and regular (one side a point, or one
+  // a convex body's face): Newton's method finds it (Kept_proof_stage::locate_single_basin).
+  bool single_basin_locatable(int pa, int pb, double d);
   // The global solver on the whole pair (Body_pair_options::global), counted as an audit.
   Distance_result global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // `solved` from a solver's witness pair.
@@ -84,6 +95,7 @@ class Pair_context {
   double m_boxes_bound = HUGE_VAL;
   long m_boxes_bound_at = -1;
   signed char m_convex = -1;
+  signed char m_convex_body[2] = {-1, -1};
 };
 
 }  // namespace extremal::internal

@@ -87,6 +87,20 @@ constexpr double k_facing_pair = 1e-2;
 constexpr double k_coarse_depth_tolerance = 1e-3;
 constexpr double k_depth_pair_tolerance = 1e-6;
 
+// ---- Balls tracked as their centres (Ball_offset) ----------------------------------------
+// The witness's parameters on a ball's face: Newton's method from the last step's, at most this
+// many corrections, to this normalised projection error. Shown by
+// BodyScenes.ABallIsTrackedAsItsCentre.
+constexpr int k_witness_corrections = 10;
+constexpr double k_witness_tolerance = 1e-12;
+// A ball's surface is tracked instead of its centre once the centre comes within this fraction
+// of the radius of the other body (its centre about to go in), and its centre again once that
+// lies this fraction of the radius outside (hysteresis: no switching back and forth). Shown by
+// Contact.ABallRisingInACylinderLeavesThroughItsCap and
+// BodyScenes.ABallInsideANonConvexPartIsNeverApart.
+constexpr double k_ball_enters = 0.25;
+constexpr double k_ball_leaves = 0.5;
+
 // ---- Broad phase (Kept_proof_stage) ------------------------------------------------------
 // Default broad-phase margin: this fraction of the smaller body's diagonal. Set by bench
 // compare (b), (c).
@@ -99,6 +113,20 @@ constexpr double k_broad_extra = 0.5;
 constexpr double k_same_pose = 1e-14;
 
 // ---- Certification of candidates (Kept_proof_certification) ------------------------------
+// A primitive is flat (a plane, a line: Primitive::flatness) when its control points lie within
+// this fraction of its size from one (imported planes and lines: to rounding). Shown by
+// BodyScenes.FlatAgainstConvexPairsNeedNoWatch.
+constexpr double k_flat_fraction = 1e-9;
+// A flat pair's tracked reading is its minimum when the primitives' flatness adds up to at most
+// this fraction of the error budget (a second basin lies at most twice their flatness below).
+constexpr double k_flat_budget = 0.25;
+// Newton's method on a pair with one basin (Kept_proof_stage::locate_single_basin): at most this
+// many steps, stopping once the normalised projection errors are within k_locate_tolerance; the
+// point counts as the stationary point within k_locate_converged. Shown by
+// BodyScenes.FlatAgainstConvexPairsNeedNoWatch.
+constexpr int k_locate_corrections = 30;
+constexpr double k_locate_tolerance = 1e-13;
+constexpr double k_locate_converged = 1e-10;
 // A candidate keeps the proofs of at most this many solves (a partial solve adds one); past
 // it, the pair is solved anew. Set by bench compare (c) at 1 kHz.
 constexpr int k_kept_solves = 8;
