@@ -24,9 +24,15 @@
 //
 // Usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--budget E] [--out DIR]
 //                [--data DIR] [--mesh FILE] [a] [b] [c] [d] [e]
+//        compare --budget-sweep [--quick] [--out DIR] [--data DIR] [b] [c] [d]
 // (--rate: only the tracker rows at that rate, for profiling one rate under callgrind;
 // --own-basin-gap: Body_pair_options::own_basin_gap of the body-pair rows; --budget: their
 // error budget, Body_pair_options::tolerance, absolute and relative alike.)
+// --budget-sweep (compare_budget.h): instead of the tables above, the body-pair tracker at the
+// budgets 1e-3, 1e-6, 1e-9 and 1e-12 against FCL's tessellation ladder of the same scenario,
+// in (b) (1 kHz and 10 kHz), (c) (1 kHz) and (d) (the ball and the probe over all solids,
+// 1 kHz; FCL on our tessellations of the ball and the solids): a table per scenario and
+// compare_budget_<scenario>.svg (the same rule for where it is written).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -37,6 +43,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,12 +54,14 @@
 #include "algorithms/distance/Global_distance.h"
 #include "algorithms/scene/Scene_stepper.h"
 #include "compare_assembly.h"
+#include "compare_budget.h"
 #include "compare_meshes.h"
 #include "experiments/Egg_crate.h"
 #include "experiments/Ellipsoid_experiment.h"
 #include "io/Model_reader.h"
 #include "kernel/Motion.h"
 #include "kernel/Shapes.h"
+#include "support/Fcl_bridge.h"
 #include "support/Loglog_plot.h"
 #include "support/Occt_bridge.h"
 
@@ -184,13 +193,6 @@ TopoDS_Shape moved(const TopoDS_Shape& s, const Rigid_pose_3& X) {
   return BRepBuilderAPI_Transform(s, T, true).Shape();
 }
 
-fcl::Transform3d fcl_pose(const Rigid_pose_3& X) {
-  fcl::Transform3d T = fcl::Transform3d::Identity();
-  T.linear() = X.rotation();
-  T.translation() = X.translation();
-  return T;
-}
-
 // ---- measurements ---------------------------------------------------------------------------
 
 struct Row {
@@ -201,6 +203,7 @@ struct Row {
   bool ours = false;
   long frames = 0;  // frames per run (trackers); else the number of timed queries
   std::string point_label;  // beside its point in the plot
+  std::optional<bench::Budget_check> check;  // body-pair tracker rows, read against the budget
 };
 
 // The reference on its grid, computed once per grid point.
@@ -313,15 +316,17 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
     options_b.audit_every = c.audit_every;
     options_b.own_basin_gap = c.own_basin_gap;
     options_b.tolerance = {c.budget, c.budget};
+    row.check = bench::Budget_check{options_b.tolerance};
+    std::vector<Pair_report> reports(steps + 1);  // the last run's, read against the budget
     std::vector<double> starts;
     for (int run = 0; run < runs; ++run) {
       Scene_stepper stepper({{&s.a, &s.motion_a}, {&s.b, &s.motion_b}}, {{0, 1}}, options_b);
       // The first step seeds the trackers by the global solver: a start-up cost, reported apart.
       const auto t0 = Clock::now();
-      distance[0] = stepper.step(0.0, dt)[0].distance;
+      reports[0] = stepper.step(0.0, dt)[0];
       starts.push_back(micros_since(t0));
       const auto t1 = Clock::now();
-      for (long i = 1; i <= steps; ++i) distance[i] = stepper.step(i * dt, dt)[0].distance;
+      for (long i = 1; i <= steps; ++i) reports[i] = stepper.step(i * dt, dt)[0];
       const Pair_statistics* last = steps > 0 ? &stepper.statistics(0) : nullptr;
       row.times_us.push_back(micros_since(t1) / std::max<long>(1, steps));
       if (run == 0 && last)
@@ -338,6 +343,10 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
     }
     std::snprintf(buf, sizeof buf, " (start %.0f us)", median(starts));
     row.setting += buf;
+    for (long i = 0; i <= steps; ++i) {
+      distance[i] = reports[i].distance;
+      row.check->add_report(reports[i]);
+    }
   }
   for (long i = 0; i <= steps; ++i) {
     const long k = ref.index_of(i * dt);
@@ -347,6 +356,7 @@ Row run_tracker(const Scenario& s, Reference_cache& ref, const Tracker_config& c
       continue;
     }
     row.errors.push_back(std::abs(distance[i] - ref.at_index(k)));
+    if (row.check) row.check->add_error(row.errors.back(), ref.at_index(k));
   }
   return row;
 }
@@ -449,7 +459,8 @@ Row run_fcl(const Scenario& s, Reference_cache& ref, const std::vector<long>& fr
   fcl::DistanceRequestd request;
   for (long k : frames) {
     const double t = k * s.reference_dt;
-    const fcl::Transform3d TA = fcl_pose(s.motion_a.pose_at(t)), TB = fcl_pose(s.motion_b.pose_at(t));
+    const fcl::Transform3d TA = bench::fcl_pose(s.motion_a.pose_at(t)),
+                           TB = bench::fcl_pose(s.motion_b.pose_at(t));
     fcl::DistanceResultd result;
     const auto t1 = Clock::now();
     fcl::distance(A.get(), TA, B.get(), TB, request, result);
@@ -542,28 +553,11 @@ void report(const Scenario& s, const std::vector<Row>& rows, const std::string& 
   }
   std::fflush(stdout);
 
-  bench::Loglog_plot plot;
-  plot.title = "(" + s.key + ") " + s.title + ": time per frame against maximum error";
-  plot.x_label = "median time per frame [us]";
-  plot.y_label = "maximum distance error (errors <= 1e-16 drawn at 1e-16)";
-  std::map<std::string, std::size_t> index;
-  for (const Row& r : rows) {
-    auto it = index.find(r.family);
-    if (it == index.end()) {
-      it = index.emplace(r.family, plot.series.size()).first;
-      plot.series.push_back({r.family, {}, {}, true, {}});
-    }
-    plot.series[it->second].point_labels.push_back(r.point_label);
-    plot.series[it->second].x.push_back(median(r.times_us));
-    plot.series[it->second].y.push_back(maximum(r.errors));
-  }
-  if (out_dir.empty()) {
-    std::printf("- plot: not written (a partial run; --out DIR writes it)\n");
-    return;
-  }
-  const std::string path = out_dir + "/compare_" + s.key + ".svg";
-  plot.write(path);
-  std::printf("- plot: %s\n", path.c_str());
+  bench::Loglog_plot plot =
+      bench::time_error_plot("(" + s.key + ") " + s.title + ": time per frame against maximum error");
+  for (const Row& r : rows)
+    plot.add_point(r.family, median(r.times_us), maximum(r.errors), r.point_label);
+  plot.write_or_note(out_dir, "compare_" + s.key + ".svg");
 }
 
 // ---- the scenarios --------------------------------------------------------------------------
@@ -713,6 +707,21 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
   return s;
 }
 
+// The frames the one-shot methods (the global solver, FCL) are timed and checked on.
+std::vector<long> one_shot_frames(const Scenario& s, const Reference_cache& ref, bool quick) {
+  return sample_indices(ref, quick || s.key == "c" ? 10 : 40);
+}
+
+// FCL on each of the scenario's tessellations, coarse to fine.
+void run_fcl_ladder(const Scenario& s, Reference_cache& ref, const std::vector<long>& frames,
+                    Clock::time_point t_start, std::vector<Row>& rows) {
+  for (const auto& [label, meshes] : s.meshes) {
+    rows.push_back(run_fcl(s, ref, frames, label, meshes.first, meshes.second));
+    std::fprintf(stderr, "(%s) FCL %s: %.0f s\n", s.key.c_str(), label.c_str(),
+                 micros_since(t_start) * 1e-6);
+  }
+}
+
 void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
                   double own_basin_gap, double budget, const std::string& out_dir) {
   Reference_cache ref(s);
@@ -744,7 +753,7 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
   // Our certified global solver.
   const Distance_hierarchy ha(s.a), hb(s.b);
   Distance_workspace ws;
-  const std::vector<long> frames = sample_indices(ref, quick || s.key == "c" ? 10 : 40);
+  const std::vector<long> frames = one_shot_frames(s, ref, quick);
   for (double tol : {1e-3, 1e-6, 1e-9, 1e-12}) rows.push_back(run_global(s, ref, frames, tol, ha, hb, ws));
   std::fprintf(stderr, "(%s) global: %.0f s\n", s.key.c_str(), micros_since(t_start) * 1e-6);
   // OpenCASCADE.
@@ -752,19 +761,71 @@ void run_scenario(Scenario& s, bool quick, bool trackers_only, double only_rate,
   const std::vector<long> few = sample_indices(ref, quick || s.key == "c" ? 2 : 5);
   rows.push_back(run_brep(s, ref, few));
   std::fprintf(stderr, "(%s) OpenCASCADE: %.0f s\n", s.key.c_str(), micros_since(t_start) * 1e-6);
-  // FCL on tessellations.
-  for (const auto& [label, meshes] : s.meshes) {
-    rows.push_back(run_fcl(s, ref, frames, label, meshes.first, meshes.second));
-    std::fprintf(stderr, "(%s) FCL %s: %.0f s\n", s.key.c_str(), label.c_str(),
-                 micros_since(t_start) * 1e-6);
-  }
+  run_fcl_ladder(s, ref, frames, t_start, rows);
   report(s, rows, out_dir);
+}
+
+// A row of the budget sweep's table: a tracker row's point labelled by its budget, on the
+// line of its rate; FCL's as in the scenario's plot.
+bench::Budget_sweep_row budget_sweep_row(const Row& r) {
+  bench::Budget_sweep_row b;
+  b.method = r.method;
+  b.setting = r.setting;
+  b.frames = r.frames ? r.frames : static_cast<long>(r.times_us.size());
+  b.median_us = median(r.times_us);
+  b.max_error = maximum(r.errors);
+  b.failures = r.failures;
+  b.check = r.check;
+  if (r.check) {
+    b.series = r.method + ", " + r.point_label;
+    char budget[32];
+    std::snprintf(budget, sizeof budget, "%.0e", r.check->budget.absolute);
+    b.point_label = budget;
+  } else {
+    b.series = r.family;
+    b.point_label = r.point_label;
+  }
+  return b;
+}
+
+// --budget-sweep: the body-pair tracker as a scene runs it (K dt = 1 with corrections,
+// Body_pair_options' default) at each swept budget, at (b)'s 1 kHz and 10 kHz or (c)'s 1 kHz,
+// and FCL's tessellation ladder on the frames run_scenario times it on; one table, one plot.
+void run_budget_sweep(Scenario& s, bool quick, const std::string& out_dir) {
+  Reference_cache ref(s);
+  std::vector<Row> rows;
+  const auto t_start = Clock::now();
+  const std::vector<double> rates =
+      s.key == "b" ? std::vector<double>{1000, 10000} : std::vector<double>{1000};
+  for (double rate : rates)
+    for (double budget : bench::k_swept_budgets) {
+      Tracker_config c{rate, 1.0, 10, 0};
+      c.budget = budget;
+      rows.push_back(run_tracker(s, ref, c));
+      std::fprintf(stderr, "(%s) %s %s: %.0f s\n", s.key.c_str(), rows.back().method.c_str(),
+                   rows.back().setting.c_str(), micros_since(t_start) * 1e-6);
+    }
+  const std::vector<long> frames = one_shot_frames(s, ref, quick);
+  run_fcl_ladder(s, ref, frames, t_start, rows);
+  bench::Budget_sweep sweep;
+  sweep.key = s.key;
+  sweep.title = s.title;
+  char notes[512];
+  std::snprintf(notes, sizeof notes,
+                "Reference: %s, every %g s. Tracker rows: Scene_stepper over the whole motion, "
+                "started on the certified pair; time the median over runs of the mean per frame "
+                "(the start apart). FCL rows: BVHModel<OBBRSS> on the scenario's tessellations, "
+                "the median per query over %zu frames.",
+                s.reference_name.c_str(), s.reference_dt, frames.size());
+  sweep.notes = notes;
+  for (const Row& r : rows) sweep.rows.push_back(budget_sweep_row(r));
+  bench::report_budget_sweep(sweep, out_dir);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, trackers_only = false;
+  bool quick = false, trackers_only = false, budget_sweep = false;
   double only_rate = 0.0;
   double own_basin_gap = Body_pair_options{}.own_basin_gap;
   double budget = Body_pair_options{}.tolerance.relative;
@@ -783,6 +844,8 @@ int main(int argc, char** argv) {
       own_basin_gap = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--budget") && i + 1 < argc)
       budget = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--budget-sweep"))
+      budget_sweep = true;
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
       out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
@@ -797,9 +860,15 @@ int main(int argc, char** argv) {
       if (!help) std::fprintf(stderr, "compare: unknown argument '%s'\n", argv[i]);
       std::fprintf(help ? stdout : stderr,
                    "usage: compare [--quick] [--trackers-only] [--rate HZ] [--own-basin-gap G] [--budget E] "
-                   "[--out DIR] [--data DIR] [--mesh FILE] [a] [b] [c] [d] [e]\n");
+                   "[--out DIR] [--data DIR] [--mesh FILE] [a] [b] [c] [d] [e]\n"
+                   "       compare --budget-sweep [--quick] [--out DIR] [--data DIR] [b] [c] [d]\n");
       return help ? 0 : 2;
     }
+  }
+  if (budget_sweep && std::any_of(only.begin(), only.end(),
+                                  [](const std::string& key) { return key == "a" || key == "e"; })) {
+    std::fprintf(stderr, "compare: --budget-sweep runs (b), (c) and (d) only\n");
+    return 2;
   }
   // A partial run (--quick, --trackers-only, --rate) leaves the committed plots of the full
   // runs that bench/RESULTS.md shows alone unless --out says where to write.
@@ -807,9 +876,22 @@ int main(int argc, char** argv) {
   auto wanted = [&](const char* key) {
     return only.empty() || std::find(only.begin(), only.end(), key) != only.end();
   };
-  std::printf("bench/compare%s: time per frame and error against the certified reference\n",
-              quick ? " --quick" : "");
+  std::printf("bench/compare%s%s: time per frame and error against the certified reference\n",
+              budget_sweep ? " --budget-sweep" : "", quick ? " --quick" : "");
   try {
+    if (budget_sweep) {
+      if (wanted("b")) {
+        Scenario b = crate_and_ellipsoid(quick);
+        run_budget_sweep(b, quick, out_dir);
+      }
+      if (wanted("c")) {
+        bool ok = false;
+        Scenario c = step_parts(quick, data, ok);
+        if (ok) run_budget_sweep(c, quick, out_dir);
+      }
+      if (wanted("d")) extremal::bench::run_assembly_budget_sweep(quick, data, out_dir);
+      return 0;
+    }
     if (wanted("a")) {
       Scenario a = seed_ellipsoids(quick);
       run_scenario(a, quick, trackers_only, only_rate, own_basin_gap, budget, out_dir);

@@ -18,21 +18,33 @@
 // the caches. Accuracy: at evenly spread frames, the tracked
 // minimum over the pairs (and each pair's distance) against the certified one-shot solver
 // (extremal_distance at 1e-12) at the same poses, computed once per case before the runs.
+// --budget-sweep (run_assembly_budget_sweep, compare_budget.h): (d1) and (d2) over all solids at
+// 1 kHz at each swept budget, and FCL (BVHModel<OBBRSS>) on our tessellations
+// (kernel/Tessellation.h) of the ball and the solids at the checked frames' poses, against the
+// same certified distances.
 #include "compare_assembly.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "algorithms/distance/Global_distance.h"
 #include "algorithms/scene/Scene_stepper.h"
+#include "compare_budget.h"
 #include "io/Model_reader.h"
 #include "kernel/Motion.h"
 #include "kernel/Shapes.h"
+#include "kernel/Tessellation.h"
+#include "support/Fcl_bridge.h"
+
+#include <fcl/narrowphase/distance.h>
 
 namespace extremal::bench {
 
@@ -53,6 +65,10 @@ constexpr double k_quick_from = 0.45, k_quick_to = 0.55;  // --quick: the pass's
 constexpr int k_checked_frames = 11;        // frames checked against the certified solver
 constexpr int k_quick_checked_frames = 3;
 constexpr double k_certified_tolerance = 1e-12;
+// --budget-sweep: the trackers' rate, and FCL's tessellations of the ball and the solids, their
+// deflections of the assembly's box diagonal (--quick: the first two).
+constexpr double k_sweep_rate = 1000.0;
+constexpr double k_fcl_deflections[] = {1e-3, 1e-4, 1e-5};
 
 volatile double g_sink = 0.0;
 
@@ -112,27 +128,37 @@ void certify(const Assembly& as, Pass_case& c, double t_begin, double t_end, int
   }
 }
 
-void run_case(const Assembly& as, const Pass_case& c, double rate, double t_begin, double t_end,
-              bool pair_by_pair) {
-  const double dt = 1.0 / rate;
-  const long steps = std::lround((t_end - t_begin) * rate);
-  std::vector<Scene_stepper_body> bodies;
+// A case stepped at one rate: every step's reports (distance, solved, status) and time, in
+// either order, and each pair's statistics.
+struct Stepped_case {
+  double dt = 0.0;
+  long steps = 0;
+  std::vector<Scene_stepper_body> bodies;  // the solids, then the mover
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<long> checked;  // the checked times' steps
+  std::vector<std::vector<Pair_report>> reports;  // [step][pair]
+  std::vector<double> times;
+  std::vector<Pair_statistics> statistics;
+};
+
+Stepped_case step_case(const Assembly& as, const Pass_case& c, double rate, double t_begin,
+                       double t_end, bool pair_by_pair, const Body_pair_options& options) {
+  Stepped_case s;
+  auto& [dt, steps, bodies, pairs, checked, reports, times, statistics] = s;
+  dt = 1.0 / rate;
+  steps = std::lround((t_end - t_begin) * rate);
   for (const Body& b : as.solids) bodies.push_back({&b, &as.still});
   const int mover = static_cast<int>(bodies.size());
   bodies.push_back({&c.mover, &c.motion});
-  std::vector<std::pair<int, int>> pairs;
   for (int i : c.solids) pairs.emplace_back(i, mover);
-  // The checked times' frames at this rate (the times lie on both rates' grids).
-  std::vector<long> checked;
+  // (The checked times lie on every rate's grid.)
   for (double t : c.check_times) checked.push_back(std::lround((t - t_begin) * rate));
 
-  // Every step's reports (distance, solved, status) and time, in either order.
   const std::size_t n = static_cast<std::size_t>(steps) + 1;
-  std::vector<std::vector<Pair_report>> reports(n, std::vector<Pair_report>(pairs.size()));
-  std::vector<double> times(n, 0.0);
-  std::vector<Pair_statistics> statistics;
+  reports.assign(n, std::vector<Pair_report>(pairs.size()));
+  times.assign(n, 0.0);
   if (!pair_by_pair) {
-    Scene_stepper stepper(bodies, pairs, Body_pair_options{});
+    Scene_stepper stepper(bodies, pairs, options);
     for (std::size_t i = 0; i < n; ++i) {
       const auto t0 = Clock::now();
       const std::vector<Pair_report>& r = stepper.step(t_begin + static_cast<double>(i) * dt, dt);
@@ -145,7 +171,7 @@ void run_case(const Assembly& as, const Pass_case& c, double rate, double t_begi
     // through all its steps in turn, a scene step's time the sum of its pairs' times there.
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       Scene_stepper stepper({bodies[static_cast<std::size_t>(pairs[k].first)], bodies.back()},
-                            {{0, 1}}, Body_pair_options{});
+                            {{0, 1}}, options);
       for (std::size_t i = 0; i < n; ++i) {
         const auto t0 = Clock::now();
         reports[i][k] = stepper.step(t_begin + static_cast<double>(i) * dt, dt).front();
@@ -154,6 +180,21 @@ void run_case(const Assembly& as, const Pass_case& c, double rate, double t_begi
       statistics.push_back(stepper.statistics(0));
     }
   }
+  return s;
+}
+
+void run_case(const Assembly& as, const Pass_case& c, double rate, double t_begin, double t_end,
+              bool pair_by_pair) {
+  const Stepped_case stepped =
+      step_case(as, c, rate, t_begin, t_end, pair_by_pair, Body_pair_options{});
+  const long steps = stepped.steps;
+  const std::vector<Scene_stepper_body>& bodies = stepped.bodies;
+  const std::vector<std::pair<int, int>>& pairs = stepped.pairs;
+  const std::vector<long>& checked = stepped.checked;
+  const std::vector<std::vector<Pair_report>>& reports = stepped.reports;
+  const std::vector<double>& times = stepped.times;
+  const std::vector<Pair_statistics>& statistics = stepped.statistics;
+  const std::size_t n = static_cast<std::size_t>(steps) + 1;
   const double start_us = times[0];
   const std::vector<double> step_us(times.begin() + 1, times.end());
   std::vector<double> tracked_min(n);
@@ -178,7 +219,7 @@ void run_case(const Assembly& as, const Pass_case& c, double rate, double t_begi
   double sink = 0.0;
   for (long i = 0; i <= steps; ++i)
     for (const Scene_stepper_body& b : bodies) {
-      const double t = t_begin + static_cast<double>(i) * dt;
+      const double t = t_begin + static_cast<double>(i) * stepped.dt;
       sink += (b.motion->pose_at(t) * b.body->placement).translation().x() +
               b.motion->twist_at(t).linear.x();
     }
@@ -243,29 +284,51 @@ void run_case(const Assembly& as, const Pass_case& c, double rate, double t_begi
 
 Bbox_3 box_of(const Body& b) { return b.trimmed_bbox(b.placement); }
 
-}  // namespace
-
-int run_assembly_scenario(bool quick, const std::string& data) {
-  const std::string file = data + "/step/as1-oc-214-mat.stp";
+// The assembly, the cases passing over it, and the stretch of their motion that is run.
+struct Assembly_scene {
   Assembly as;
+  double diagonal = 0.0;  // of the assembly's box
+  double t_begin = 0.0, t_end = 0.0;
+  int frames = 0;  // checked frames
+  std::vector<Pass_case> cases;
+  std::string description;  // of the assembly and the cases, for the tables' preamble
+};
+
+// printf's formatting, into a string.
+__attribute__((format(printf, 1, 2))) std::string formatted(const char* format, ...) {
+  va_list args, sizing;
+  va_start(args, format);
+  va_copy(sizing, args);
+  std::string text(static_cast<std::size_t>(std::vsnprintf(nullptr, 0, format, sizing)), '\0');
+  va_end(sizing);
+  std::vsnprintf(text.data(), text.size() + 1, format, args);
+  va_end(args);
+  return text;
+}
+
+// False (noted as skipped) when the file cannot be read.
+bool set_up_scene(bool quick, const std::string& data, Assembly_scene& scene) {
+  const std::string file = data + "/step/as1-oc-214-mat.stp";
+  Assembly& as = scene.as;
   try {
     as.solids = io::load_bodies(file, "mm", "mm");
   } catch (const std::exception& e) {
     std::printf("\n(d) skipped: %s\n", e.what());
-    return 0;
+    return false;
   }
   for (const Body& b : as.solids) as.hierarchies.emplace_back(b);
   Bbox_3 box;
   for (const Body& b : as.solids) box += box_of(b);
   const double diagonal = box_diagonal(box);
   const Vec3 centre = box_centre(box);
-  const double t_begin = quick ? k_quick_from * k_pass_seconds : 0.0;
-  const double t_end = quick ? k_quick_to * k_pass_seconds : k_pass_seconds;
-  const int frames = quick ? k_quick_checked_frames : k_checked_frames;
+  scene.diagonal = diagonal;
+  scene.t_begin = quick ? k_quick_from * k_pass_seconds : 0.0;
+  scene.t_end = quick ? k_quick_to * k_pass_seconds : k_pass_seconds;
+  scene.frames = quick ? k_quick_checked_frames : k_checked_frames;
   std::vector<int> all;
   for (int i = 0; i < static_cast<int>(as.solids.size()); ++i) all.push_back(i);
 
-  std::vector<Pass_case> cases;
+  std::vector<Pass_case>& cases = scene.cases;
   {  // (d1) the ball along x over the middle of the assembly, its box clear of the assembly's.
     Pass_case c;
     const double r = k_ball_radius * diagonal;
@@ -281,13 +344,13 @@ int run_assembly_scenario(bool quick, const std::string& data) {
     v.angular = k_ball_spin;
     c.motion = Motion::twist(Rigid_pose_3(Mat3::Identity(), from), v, 0.0);
     c.solids = all;
-    std::printf("\n### (d) a body moving over the as1 assembly: time per scene step\n\n");
-    std::printf("%s: %zu solids, box %.1f x %.1f x %.1f mm, diagonal %.1f mm. (d1) ball r = %.2f mm "
-                "from (%.2f, %.2f, %.2f) along x at %.1f mm/s, %.2f mm above the box (spinning "
-                "%.1f rad/s).",
-                file.c_str(), as.solids.size(), box.xmax() - box.xmin(), box.ymax() - box.ymin(),
-                box.zmax() - box.zmin(), diagonal, r, from.x(), from.y(), from.z(), v.linear.norm(),
-                k_ball_clearance * diagonal, k_ball_spin.norm());
+    scene.description = formatted(
+        "%s: %zu solids, box %.1f x %.1f x %.1f mm, diagonal %.1f mm. (d1) ball r = %.2f mm "
+        "from (%.2f, %.2f, %.2f) along x at %.1f mm/s, %.2f mm above the box (spinning "
+        "%.1f rad/s).",
+        file.c_str(), as.solids.size(), box.xmax() - box.xmin(), box.ymax() - box.ymin(),
+        box.zmax() - box.zmin(), diagonal, r, from.x(), from.y(), from.z(), v.linear.norm(),
+        k_ball_clearance * diagonal, k_ball_spin.norm());
     cases.push_back(std::move(c));
   }
   {  // (d2) the point over the highest solid (no other solid reaches above its box).
@@ -307,16 +370,118 @@ int run_assembly_scenario(bool quick, const std::string& data) {
     c.motion = Motion::twist(Rigid_pose_3(Mat3::Identity(), from), v, 0.0);
     c.solids = all;
     const std::string name = as.solids[top].name;
-    std::printf(" (d2) point probe from (%.2f, %.2f, %.2f) along x at %.1f mm/s, %.2f mm above "
-                "the box of %s (%zu faces, diagonal %.1f mm).\n",
-                from.x(), from.y(), from.z(), v.linear.norm(), k_probe_clearance * size, name.c_str(),
-                as.solids[top].faces.size(), size);
+    scene.description += formatted(
+        " (d2) point probe from (%.2f, %.2f, %.2f) along x at %.1f mm/s, %.2f mm above the box "
+        "of %s (%zu faces, diagonal %.1f mm).\n",
+        from.x(), from.y(), from.z(), v.linear.norm(), k_probe_clearance * size, name.c_str(),
+        as.solids[top].faces.size(), size);
     c.label = "(d2) point over " + name;
     cases.push_back(c);
     c.label = "(d2) point over " + name + ", its pair only";
     c.solids = {static_cast<int>(top)};
     cases.push_back(std::move(c));
   }
+  return true;
+}
+
+// The tracker over a case's pairs at one budget (Body_pair_options' defaults otherwise), its
+// steps' median time and its errors at the checked frames: a row of the budget sweep.
+Budget_sweep_row budget_sweep_row(const Assembly_scene& scene, const Pass_case& c, double budget) {
+  Body_pair_options options;
+  options.tolerance = {budget, budget};
+  const Stepped_case stepped =
+      step_case(scene.as, c, k_sweep_rate, scene.t_begin, scene.t_end, false, options);
+  Budget_sweep_row row;
+  row.method = "Scene_stepper";
+  row.mover = c.mover.name;
+  row.series = formatted("Scene_stepper, %s, %g Hz", c.mover.name.c_str(), k_sweep_rate);
+  row.point_label = formatted("%.0e", budget);
+  row.setting = formatted("%s, %g Hz (start %.1f ms)", c.label.c_str(), k_sweep_rate,
+                          stepped.times[0] * 1e-3);
+  row.frames = stepped.steps;
+  row.median_us = percentile({stepped.times.begin() + 1, stepped.times.end()}, 50);
+  row.max_error = 0.0;
+  Budget_check check{options.tolerance};
+  for (std::size_t j = 0; j < stepped.checked.size(); ++j) {
+    const std::vector<Pair_report>& got = stepped.reports[static_cast<std::size_t>(stepped.checked[j])];
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      if (!std::isfinite(got[k].distance)) {
+        ++row.failures;
+        continue;
+      }
+      const double error = std::abs(got[k].distance - c.certified[j][k]);
+      row.max_error = std::max(row.max_error, error);
+      check.add_error(error, c.certified[j][k]);
+    }
+  }
+  for (const std::vector<Pair_report>& step : stepped.reports)
+    for (const Pair_report& r : step) check.add_report(r);
+  row.check = check;
+  return row;
+}
+
+// FCL's distances between a moving body and each of its solids at the checked times, on our
+// tessellations (kernel/Tessellation.h) of both at `deflection`, the queries of a frame timed
+// together: a row of FCL's ladder in the budget sweep.
+Budget_sweep_row fcl_ladder_row(const Assembly& as, const Pass_case& c, double deflection) {
+  const auto t_build = Clock::now();
+  Tessellation_options options;
+  options.deflection = deflection;
+  auto model_of = [&](const Body& body, const Rigid_pose_3& placement, std::size_t& triangles) {
+    Tessellation t;
+    tessellate(body, placement, 0, options, t);
+    triangles += t.mesh.triangles.size();
+    return fcl_model(t.mesh);
+  };
+  std::size_t solid_triangles = 0, mover_triangles = 0;
+  std::vector<std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>> solids;
+  for (int i : c.solids) {
+    const Body& solid = as.solids[static_cast<std::size_t>(i)];
+    solids.push_back(model_of(solid, solid.placement, solid_triangles));
+  }
+  const auto mover = model_of(c.mover, Rigid_pose_3(), mover_triangles);  // placed by the motion
+  Budget_sweep_row row;
+  row.method = "FCL distance (OBBRSS)";
+  row.mover = c.mover.name;
+  row.series = "FCL distance, OBBRSS, " + c.mover.name;
+  row.setting = formatted("deflection %.3g mm: %zu + %zu triangles (build %.2f s)", deflection,
+                          solid_triangles, mover_triangles, micros_since(t_build) * 1e-6);
+  row.point_label = formatted("%.2gM tri", static_cast<double>(solid_triangles + mover_triangles) * 1e-6);
+  row.frames = static_cast<long>(c.check_times.size());
+  row.max_error = 0.0;
+  const fcl::DistanceRequestd request;
+  std::vector<double> times;
+  for (std::size_t j = 0; j < c.check_times.size(); ++j) {
+    const fcl::Transform3d X = fcl_pose(c.motion.pose_at(c.check_times[j]) * c.mover.placement);
+    std::vector<double> distance(solids.size());
+    const auto t0 = Clock::now();
+    for (std::size_t k = 0; k < solids.size(); ++k) {
+      fcl::DistanceResultd result;
+      fcl::distance(solids[k].get(), fcl::Transform3d::Identity(), mover.get(), X, request, result);
+      distance[k] = result.min_distance;
+    }
+    times.push_back(micros_since(t0));
+    for (std::size_t k = 0; k < solids.size(); ++k) {
+      if (std::isfinite(distance[k]))
+        row.max_error = std::max(row.max_error, std::abs(distance[k] - c.certified[j][k]));
+      else
+        ++row.failures;
+    }
+  }
+  row.median_us = percentile(times, 50);
+  return row;
+}
+
+}  // namespace
+
+int run_assembly_scenario(bool quick, const std::string& data) {
+  Assembly_scene scene;
+  if (!set_up_scene(quick, data, scene)) return 0;
+  const Assembly& as = scene.as;
+  std::vector<Pass_case>& cases = scene.cases;
+  const double t_begin = scene.t_begin, t_end = scene.t_end;
+  std::printf("\n### (d) a body moving over the as1 assembly: time per scene step\n\n%s",
+              scene.description.c_str());
   std::printf("\nTimes per scene step in us (all its pairs; the first step, which seeds them, is "
               "the start); motions: the bodies' poses and twists, timed apart; restricted "
               "solves: of candidate pairs without a tracker; solved: pair rows the certified "
@@ -327,7 +492,7 @@ int run_assembly_scenario(bool quick, const std::string& data) {
               "and of any pair.\n\n",
               k_certified_tolerance);
   const auto t_certify = Clock::now();
-  for (Pass_case& c : cases) certify(as, c, t_begin, t_end, frames);
+  for (Pass_case& c : cases) certify(as, c, t_begin, t_end, scene.frames);
   int uncertified = 0;
   for (const Pass_case& c : cases) uncertified += c.uncertified;
   std::printf("| case | pairs | rate | steps | start (ms) | mean | median | p99 | max | motions | "
@@ -348,6 +513,47 @@ int run_assembly_scenario(bool quick, const std::string& data) {
     }
   if (uncertified)
     std::printf("\n%d certified references were not certified (budget or resolution).\n", uncertified);
+  return 0;
+}
+
+int run_assembly_budget_sweep(bool quick, const std::string& data, const std::string& out_dir) {
+  Assembly_scene scene;
+  if (!set_up_scene(quick, data, scene)) return 0;
+  // The ball's and the probe's passes over all solids (not the probe's one pair alone).
+  std::vector<Pass_case>& cases = scene.cases;
+  cases.erase(std::remove_if(cases.begin(), cases.end(),
+                             [](const Pass_case& c) { return c.solids.size() == 1; }),
+              cases.end());
+  const auto t_start = Clock::now();
+  for (Pass_case& c : cases) certify(scene.as, c, scene.t_begin, scene.t_end, scene.frames);
+  std::fprintf(stderr, "(d) certified references: %.1f s\n", micros_since(t_start) * 1e-6);
+  Budget_sweep sweep;
+  sweep.key = "d";
+  sweep.title = "a ball and a probe over the as1 assembly";
+  for (const Pass_case& c : cases)
+    for (double budget : k_swept_budgets) {
+      sweep.rows.push_back(budget_sweep_row(scene, c, budget));
+      std::fprintf(stderr, "(d) %s, budget %g: %.0f s\n", c.label.c_str(), budget,
+                   micros_since(t_start) * 1e-6);
+    }
+  // FCL's ladder for the ball (the probe is a point: no mesh), in the assembly's scale.
+  const Pass_case& ball = cases.front();
+  for (std::size_t i = 0; i < (quick ? 2 : std::size(k_fcl_deflections)); ++i) {
+    sweep.rows.push_back(fcl_ladder_row(scene.as, ball, k_fcl_deflections[i] * scene.diagonal));
+    std::fprintf(stderr, "(d) FCL %s: %.0f s\n", sweep.rows.back().setting.c_str(),
+                 micros_since(t_start) * 1e-6);
+  }
+  sweep.notes = scene.description + formatted(
+      "\nReference: extremal_distance at %.0e of each pair at %d checked frames. Tracker rows: "
+      "Scene_stepper over all the moving body's pairs at %g Hz, Body_pair_options' defaults but "
+      "the budget; time the median step (the first, which seeds the pairs, apart as the start); "
+      "errors over the checked frames and the pairs. FCL rows: the ball's pairs (a point has no "
+      "mesh: the probe's rows have no speed-up), BVHModel<OBBRSS> on our tessellations of the "
+      "ball and of each solid at one deflection (1e-3, 1e-4 and 1e-5 of the assembly's "
+      "diagonal; --quick: the first two), a frame's queries timed together, the median over the "
+      "checked frames.",
+      k_certified_tolerance, scene.frames, k_sweep_rate);
+  report_budget_sweep(sweep, out_dir);
   return 0;
 }
 

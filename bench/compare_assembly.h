@@ -11,4 +11,10 @@ namespace extremal::bench {
 // error against the certified solver. Returns 0, also when the file is missing (noted as skipped).
 int run_assembly_scenario(bool quick, const std::string& data);
 
+// --budget-sweep (compare_budget.h): the ball's and the probe's passes over all solids at 1 kHz
+// at each swept budget, and FCL on tessellations of the ball and the solids at the same poses;
+// prints the table and, with an `out_dir`, writes out_dir/compare_budget_d.svg. Returns 0, also
+// when the file is missing (noted as skipped).
+int run_assembly_budget_sweep(bool quick, const std::string& data, const std::string& out_dir);
+
 }  // namespace extremal::bench

@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,9 +19,8 @@
 #include "algorithms/mesh/Mesh_bvh.h"
 #include "io/Model_reader.h"
 #include "kernel/Error.h"
+#include "support/Fcl_bridge.h"
 
-#include <fcl/geometry/bvh/BVH_model.h>
-#include <fcl/math/bv/OBBRSS.h>
 #include <fcl/narrowphase/distance.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 #include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
@@ -57,25 +55,6 @@ Body mesh_of(const std::string& path) {
       return std::move(b);
     }
   throw Invalid_input("'" + path + "' holds no mesh");
-}
-
-std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Triangle_mesh& m) {
-  std::vector<fcl::Vector3d> v;
-  std::vector<fcl::Triangle> t;
-  for (const Point_3& p : m.vertices) v.emplace_back(p.x(), p.y(), p.z());
-  for (const auto& f : m.triangles) t.emplace_back(f[0], f[1], f[2]);
-  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-  model->beginModel(static_cast<int>(t.size()), static_cast<int>(v.size()));
-  model->addSubModel(v, t);
-  model->endModel();
-  return model;
-}
-
-fcl::Transform3d fcl_pose(const Rigid_pose_3& X) {
-  fcl::Transform3d T = fcl::Transform3d::Identity();
-  T.linear() = X.rotation();
-  T.translation() = X.translation();
-  return T;
 }
 
 Vec3 centre(const Bbox_3& b) {

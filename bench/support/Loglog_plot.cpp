@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -91,7 +92,8 @@ std::string Loglog_plot::to_svg() const {
       if (!(s.x[i] > 0 && std::isfinite(s.y[i]))) continue;
       os << marker(static_cast<int>(k / 10 + k), X(s.x[i]), Y(s.y[i]), colour) << "\n";
       if (i < s.point_labels.size() && !s.point_labels[i].empty())
-        os << "<text x=\"" << X(s.x[i]) + 7 << "\" y=\"" << Y(s.y[i]) - 5
+        os << "<text x=\"" << X(s.x[i]) + 7 << "\" y=\""
+           << Y(s.y[i]) - 5 - 11.0 * static_cast<double>(i % static_cast<std::size_t>(s.label_rows))
            << "\" font-size=\"10\" fill=\"" << colour << "\">" << io::xml_escape(s.point_labels[i])
            << "</text>\n";
     }
@@ -103,11 +105,39 @@ std::string Loglog_plot::to_svg() const {
   return os.str();
 }
 
+void Loglog_plot::add_point(const std::string& series_label, double x, double y,
+                            const std::string& point_label) {
+  auto it = std::find_if(series.begin(), series.end(),
+                         [&](const Loglog_series& s) { return s.label == series_label; });
+  if (it == series.end()) it = series.insert(series.end(), {series_label, {}, {}, true, {}});
+  it->x.push_back(x);
+  it->y.push_back(y);
+  it->point_labels.push_back(point_label);
+}
+
 void Loglog_plot::write(const std::string& path) const {
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write plot '" + path + "'");
   f << to_svg();
   if (!f) throw std::runtime_error("cannot write plot '" + path + "'");
+}
+
+void Loglog_plot::write_or_note(const std::string& out_dir, const std::string& file_name) const {
+  if (out_dir.empty()) {
+    std::printf("- plot: not written (a partial run; --out DIR writes it)\n");
+    return;
+  }
+  const std::string path = out_dir + "/" + file_name;
+  write(path);
+  std::printf("- plot: %s\n", path.c_str());
+}
+
+Loglog_plot time_error_plot(const std::string& title) {
+  Loglog_plot plot;
+  plot.title = title;
+  plot.x_label = "median time per frame [us]";
+  plot.y_label = "maximum distance error (errors <= 1e-16 drawn at 1e-16)";
+  return plot;
 }
 
 }  // namespace extremal::bench

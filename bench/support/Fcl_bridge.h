@@ -1,0 +1,20 @@
+// Our triangle meshes and poses as FCL's, for the programs in bench/ that measure FCL (FCL
+// types appear only there).
+#pragma once
+
+#include <memory>
+
+#include "kernel/Body.h"
+#include "kernel/Rigid_pose_3.h"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/math/bv/OBBRSS.h>
+
+namespace extremal::bench {
+
+// FCL's distance hierarchy (BVHModel<OBBRSS>) over the mesh's triangles, in the mesh's frame.
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Triangle_mesh& m);
+
+fcl::Transform3d fcl_pose(const Rigid_pose_3& X);
+
+}  // namespace extremal::bench
