@@ -29,16 +29,15 @@ Scene_run::Scene_run(const io::Scene& scene, const Scene_run_options& options)
     : m_scene(scene), m_options(options) {
   EXTREMAL_PRECONDITION(options.threads >= 1 && options.block_steps >= 1);
   const Body_pair_options pair_options = pair_options_of(scene);
-  // One stepper per pair over just its two bodies: the same poses and twists as one stepper
-  // over the whole scene, and nothing shared between threads.
-  m_steppers.reserve(scene.pairs.size());
+  m_models.resize(scene.bodies.size());
+  m_trackers.reserve(scene.pairs.size());
   for (const auto& [a, b] : scene.pairs) {
     const io::Scene_body& A = scene.bodies[a];
     const io::Scene_body& B = scene.bodies[b];
     try {
-      m_steppers.push_back(std::make_unique<Scene_stepper>(
-          std::vector<Scene_stepper_body>{{&A.body, &A.motion}, {&B.body, &B.motion}},
-          std::vector<std::pair<int, int>>{{0, 1}}, pair_options));
+      for (int i : {a, b})
+        if (!m_models[i]) m_models[i] = std::make_shared<const Tracking_model>(scene.bodies[i].body);
+      m_trackers.emplace_back(m_models[a], m_models[b], pair_options);
     } catch (const Invalid_input& e) {
       throw Invalid_input(scene.path + ": pair " + A.name + " - " + B.name + ": " + e.what());
     }
@@ -52,32 +51,59 @@ Scene_run::~Scene_run() = default;
 void Scene_run::run(const Step_callback& on_step) {
   const io::Scene& scene = m_scene;
   const Scene_run_options& options = m_options;
-  auto& steppers = m_steppers;
+  auto& trackers = m_trackers;
   auto& step_times = m_step_times_us;
-  const std::size_t n_pairs = scene.pairs.size();
+  const std::size_t n_pairs = scene.pairs.size(), n_bodies = scene.bodies.size();
   const int steps = scene.step_count();
   const int block = std::min(options.block_steps, steps);
   std::vector<std::vector<Pair_report>> buffer(n_pairs, std::vector<Pair_report>(block));
   std::vector<Pair_report> row(n_pairs);
+  // The watched bodies' poses and twists at the block's steps, [step][body]; a static body's
+  // once, at the first step.
+  std::vector<std::vector<Rigid_pose_3>> poses(block, std::vector<Rigid_pose_3>(n_bodies));
+  std::vector<std::vector<Twist_3>> twists(block, std::vector<Twist_3>(n_bodies));
+  std::vector<char> still(n_pairs);
+  for (std::size_t k = 0; k < n_pairs; ++k)
+    still[k] = scene.bodies[scene.pairs[k].first].motion.is_static() &&
+               scene.bodies[scene.pairs[k].second].motion.is_static();
   tbb::task_arena arena(options.threads);
   for (int first = 0; first < steps; first += block) {
     const int count = std::min(block, steps - first);
+    for (std::size_t b = 0; b < n_bodies; ++b) {
+      if (!m_models[b]) continue;
+      const Scene_stepper_body body{&scene.bodies[b].body, &scene.bodies[b].motion};
+      for (int i = 0; i < count; ++i)
+        if (i == 0 || !scene.bodies[b].motion.is_static())
+          body_pose_at(body, scene.time_of(first + i), poses[i][b], twists[i][b]);
+        else
+          poses[i][b] = poses[0][b], twists[i][b] = twists[0][b];
+    }
     auto run_pairs = [&](std::size_t k0, std::size_t k1) {
-      for (std::size_t k = k0; k < k1; ++k)
+      for (std::size_t k = k0; k < k1; ++k) {
+        const auto [a, b] = scene.pairs[k];
         for (int i = 0; i < count; ++i) {
+          const int index = first + i;
+          const double t = scene.time_of(index);
+          if (still[k] && index > 0) {  // (its row stands)
+            buffer[k][i] = i > 0 ? buffer[k][i - 1] : buffer[k][block - 1];
+            buffer[k][i].time = t;
+            step_times[k][static_cast<std::size_t>(index)] = 0.0f;
+            continue;
+          }
           try {
             // Only this pair's step is timed; each (k, step) slot is written by one thread.
             const auto start = std::chrono::steady_clock::now();
-            buffer[k][i] = steppers[k]->step(scene.time_of(first + i), scene.step).front();
+            buffer[k][i] = trackers[k].step(t, poses[i][a], twists[i][a], poses[i][b], twists[i][b],
+                                            scene.step);
             const auto stop = std::chrono::steady_clock::now();
-            step_times[k][static_cast<std::size_t>(first + i)] =
+            step_times[k][static_cast<std::size_t>(index)] =
                 std::chrono::duration<float, std::micro>(stop - start).count();
           } catch (const Invalid_input& e) {
-            const auto& [a, b] = scene.pairs[k];
             throw Invalid_input(scene.path + ": pair " + scene.bodies[a].name + " - " +
                                 scene.bodies[b].name + ": " + e.what());
           }
         }
+      }
     };
     if (options.threads == 1 || n_pairs == 1) {
       run_pairs(0, n_pairs);

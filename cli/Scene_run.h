@@ -1,7 +1,9 @@
 // Runs the watched pairs of a scene through its time steps, on several threads when asked, with
-// the same rows as on one thread: each pair has its own stepper (pairs share nothing but the
-// read-only bodies and motions), the pairs of a block of steps run in parallel in a TBB arena,
-// and the rows of the block are handed over in order (step by step, pair by pair).
+// the same rows as on one thread: each body is prepared once (its Tracking_model, read only and
+// shared by its pairs) and placed once a step, each pair has its own tracker, the pairs of a
+// block of steps run in parallel in a TBB arena (each pair through the block's steps in turn),
+// and the rows of the block are handed over in order (step by step, pair by pair). A pair of
+// two static bodies is stepped once: its row stands, at no cost, for the later steps.
 #pragma once
 
 #include <functional>
@@ -11,9 +13,6 @@
 #include "algorithms/body_pair/Body_pair_tracker.h"
 #include "io/Scene.h"
 
-namespace extremal {
-class Scene_stepper;
-}
 
 namespace extremal::cli {
 
@@ -47,7 +46,8 @@ class Scene_run {
  private:
   const io::Scene& m_scene;
   Scene_run_options m_options;
-  std::vector<std::unique_ptr<Scene_stepper>> m_steppers;
+  std::vector<std::shared_ptr<const Tracking_model>> m_models;  // per body, if watched
+  std::vector<Body_pair_tracker> m_trackers;                      // per pair
   // Sized to the scene's steps up front (4 bytes per pair and step): run() only stores.
   std::vector<std::vector<float>> m_step_times_us;
 };

@@ -414,6 +414,29 @@ TEST(BodyScenes, ABallIsTrackedAsItsCentre) {
   }
 }
 
+TEST(BodyScenes, BodiesMovingAsOneAreComputedOnce) {
+  // A torus and an ellipsoid carried along by one screw motion: their relative pose never
+  // changes, so the first report stands, its witnesses and normal moving with the bodies.
+  const Body torus = make_torus_body(2.0, 0.5), egg = make_ellipsoid_body(0.6, 0.4, 0.3);
+  const Rigid_pose_3 offset = pose_of(Vec3(0.3, 0.2, 1.4), Vec3(1.0, 1.0, 0.0), 0.4);
+  const Twist_3 V = twist(Vec3(0.5, -0.2, 0.1), Vec3(0.3, 0.9, -0.4));
+  Body_pair_tracker tracker(torus, egg);
+  const Pair_report first = tracker.step(0.0, Rigid_pose_3(), V, offset, V, 0.01);
+  for (int i = 1; i <= 50; ++i) {
+    const double t = 0.01 * i;
+    const Rigid_pose_3 X = advance(Rigid_pose_3(), V, t);
+    const Pair_report& r = tracker.step(t, X, V, X * offset, V, 0.01);
+    EXPECT_EQ(r.time, t);
+    EXPECT_NEAR(r.distance, first.distance, 1e-12);
+    EXPECT_LE((r.point_a - X.apply_point(first.point_a)).norm(), 1e-12) << "t = " << t;
+    EXPECT_LE((r.point_b - X.apply_point(first.point_b)).norm(), 1e-12) << "t = " << t;
+    EXPECT_LE((r.normal - X.rotation() * first.normal).norm(), 1e-12) << "t = " << t;
+    ASSERT_TRUE(r.lower_bound);
+    EXPECT_LE(*r.lower_bound, r.distance);
+  }
+  EXPECT_EQ(tracker.statistics().computed_steps, 1);
+}
+
 TEST(BodyScenes, EveryStepFileOfTheSharedDataGivesATrackingModel) {
   // Building a body's tracking model projects edge ends onto faces and samples patch sides
   // over whole parameter ranges: it must work on every real part, with a primitive per face.

@@ -121,6 +121,9 @@ struct Body_pair_tracker::Stages {
   // The step of the stages' bodies (a ball's centre in its place).
   const Pair_report& step(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
                           const Rigid_pose_3& X_WB, const Twist_3& V_B, double dt);
+  // The step of the bodies as given (a ball as its centre, or deep, as its surface).
+  const Pair_report& step_bodies(double t, const Rigid_pose_3& X_WA, const Twist_3& V_A,
+                                 const Rigid_pose_3& X_WB, const Twist_3& V_B, double dt);
   bool is_farther(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const;
   void start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   // Steps every pending tracker and reads the tracked minimum.
@@ -145,6 +148,11 @@ struct Body_pair_tracker::Stages {
   // first use; `deep`: it answers).
   std::unique_ptr<Stages> whole;
   bool deep = false;
+  // The last report made (made_any), at A's pose and the relative pose it was made at, and the
+  // one carried from it while the bodies move as one.
+  Pair_report made, carried;
+  bool made_any = false;
+  Rigid_pose_3 made_pose_a, made_relative;
   internal::Pair_context context;
   internal::Live_set live;
   internal::Pair_seeding seeding;
@@ -378,6 +386,38 @@ const Pair_report& Body_pair_tracker::step(double t, const Rigid_pose_3& X_WA, c
                                            const Rigid_pose_3& X_WB, const Twist_3& V_B,
                                            double dt) {
   Stages& s = *m;
+  // Bodies that moved as one since the report was made (their relative pose the same, to
+  // rounding): it stands, carried along in the world, its bound less that rounding's motion.
+  // Test BodyScenes.BodiesMovingAsOneAreComputedOnce.
+  const Rigid_pose_3 relative = X_WA.inverse() * X_WB;
+  const Tracking_model& A = *s.balls.given(0);
+  const Tracking_model& B = *s.balls.given(1);
+  if (s.made_any && s.made.status != Pair_status::Farther &&
+      internal::near_pose(relative, s.made_relative,
+                          std::max(box_diagonal(A.box()), box_diagonal(B.box())))) {
+    const Rigid_pose_3 M = X_WA * s.made_pose_a.inverse();
+    Pair_report& r = s.carried;
+    r = s.made;
+    r.time = t;
+    r.point_a = M.apply_point(s.made.point_a);
+    r.point_b = M.apply_point(s.made.point_b);
+    r.normal = M.rotation() * s.made.normal;
+    if (r.lower_bound)
+      *r.lower_bound -= internal::approach_bound(A.box(), B.box(), s.made_relative, relative).closer;
+    return r;
+  }
+  s.made = s.step_bodies(t, X_WA, V_A, X_WB, V_B, dt);
+  s.made_any = true;
+  s.made_pose_a = X_WA;
+  s.made_relative = relative;
+  return s.made;
+}
+
+const Pair_report& Body_pair_tracker::Stages::step_bodies(double t, const Rigid_pose_3& X_WA,
+                                                          const Twist_3& V_A,
+                                                          const Rigid_pose_3& X_WB,
+                                                          const Twist_3& V_B, double dt) {
+  Stages& s = *this;
   if (!s.balls.any()) return s.step(t, X_WA, V_A, X_WB, V_B, dt);
   // A ball deep in the other body: its surface tracked, until its centre is back out by a
   // fraction of its radius (then the centre's stages start again).
@@ -432,6 +472,7 @@ const Pair_report& Body_pair_tracker::Stages::step(double t, const Rigid_pose_3&
   if (s.started && s.have_pose && same_pose(X_WA, s.last_A) && same_pose(X_WB, s.last_B)) return r;
   if (s.meshes) {
     ++c.steps;
+    ++c.stats.computed_steps;
     s.meshes->step(X_WA, X_WB, r, c.stats);
     s.started = s.have_pose = true;
     s.last_A = X_WA;
@@ -445,6 +486,7 @@ const Pair_report& Body_pair_tracker::Stages::step(double t, const Rigid_pose_3&
   c.V_A = &V_A;
   c.V_B = &V_B;
   ++c.steps;
+  ++c.stats.computed_steps;
   s.apart_unheld = false;
   c.relative = X_WA.inverse() * X_WB;
   if (!s.started) {

@@ -15,12 +15,6 @@ namespace {
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int,
                                                       CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
 
-// Whether two relative poses are equal to rounding (their difference no motion at all).
-bool near_pose(const Rigid_pose_3& x, const Rigid_pose_3& y, double length) {
-  return (x.rotation() - y.rotation()).cwiseAbs().maxCoeff() <= k_same_pose &&
-         (x.translation() - y.translation()).cwiseAbs().maxCoeff() <= k_same_pose * length;
-}
-
 }  // namespace
 
 struct Kept_proof_stage::Broad_scratch {

@@ -68,6 +68,9 @@ struct Pair_report {
 struct Pair_statistics {
   int trackers = 0;    // live feature-pair trackers at the last step
   int candidates = 0;  // live candidate primitive pairs of the broad phase at the last step
+  // Steps the pair was computed at (not those whose report stood: nothing moved, or the bodies
+  // moved as one).
+  long computed_steps = 0;
   // Certified global solves so far (start, audits, re-seeds and the depth monitor's checks),
   // and the trackers audits and re-seeds seeded.
   int audits = 0, reseeds = 0;

@@ -13,6 +13,14 @@ struct Scene_stepper::Parallel {
   tbb::task_arena arena;
 };
 
+void body_pose_at(const Scene_stepper_body& b, double t, Rigid_pose_3& pose, Twist_3& twist) {
+  const Rigid_pose_3 entry = b.motion->pose_at(t);
+  const Twist_3 v = b.motion->twist_at(t);
+  pose = entry * b.body->placement;
+  twist.angular = v.angular;
+  twist.linear = v.linear + v.angular.cross(pose.translation() - entry.translation());
+}
+
 Scene_stepper::Scene_stepper(std::vector<Scene_stepper_body> bodies,
                              std::vector<std::pair<int, int>> pairs,
                              const Body_pair_options& options, const Scene_stepper_options& stepper)
@@ -26,6 +34,7 @@ Scene_stepper::Scene_stepper(std::vector<Scene_stepper_body> bodies,
     for (int i : {a, b})
       if (!m_models[i]) m_models[i] = std::make_shared<const Tracking_model>(*m_bodies[i].body);
     m_trackers.emplace_back(m_models[a], m_models[b], options);
+    m_still.push_back(m_bodies[a].motion->is_static() && m_bodies[b].motion->is_static());
   }
   m_reports.resize(m_pairs.size());
   m_poses.resize(m_bodies.size());
@@ -45,15 +54,14 @@ void Scene_stepper::set_threads(int threads) {
 const std::vector<Pair_report>& Scene_stepper::step(double t, double dt) {
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
     if (!m_models[i]) continue;  // in no watched pair
-    // The body frame sits at the entry's pose times the body's placement in its file; the
-    // twist's linear part is the velocity of that frame's origin.
-    const Rigid_pose_3 entry = m_bodies[i].motion->pose_at(t);
-    const Twist_3 v = m_bodies[i].motion->twist_at(t);
-    m_poses[i] = entry * m_bodies[i].body->placement;
-    m_twists[i].angular = v.angular;
-    m_twists[i].linear = v.linear + v.angular.cross(m_poses[i].translation() - entry.translation());
+    if (m_stepped && m_bodies[i].motion->is_static()) continue;  // (where it was)
+    body_pose_at(m_bodies[i], t, m_poses[i], m_twists[i]);
   }
   auto step_pair = [&](std::size_t k) {
+    if (m_stepped && m_still[k]) {
+      m_reports[k].time = t;
+      return;
+    }
     const auto [a, b] = m_pairs[k];
     m_reports[k] = m_trackers[k].step(t, m_poses[a], m_twists[a], m_poses[b], m_twists[b], dt);
   };
@@ -67,6 +75,7 @@ const std::vector<Pair_report>& Scene_stepper::step(double t, double dt) {
   } else {
     for (std::size_t k = 0; k < m_pairs.size(); ++k) step_pair(k);
   }
+  m_stepped = true;
   return m_reports;
 }
 

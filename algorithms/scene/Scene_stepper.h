@@ -18,6 +18,10 @@ struct Scene_stepper_body {
   const Motion* motion;  // must outlive the stepper; the body sits at motion * body->placement
 };
 
+// Body `b`'s frame at time t: its motion's pose times its placement in its file, and its twist
+// with the linear part the velocity of that frame's origin.
+void body_pose_at(const Scene_stepper_body& b, double t, Rigid_pose_3& pose, Twist_3& twist);
+
 struct Scene_stepper_options {
   // Worker threads stepping the watched pairs (TBB); 1 steps them in this thread. Every pair
   // is stepped by one thread with its own state, so the reports are bit-identical to one
@@ -48,6 +52,9 @@ class Scene_stepper {
   std::vector<std::pair<int, int>> m_pairs;
   std::vector<std::shared_ptr<const Tracking_model>> m_models;  // per body, built if watched
   std::vector<Body_pair_tracker> m_trackers;
+  // Pairs of two static bodies are stepped once: their report stands, with the time updated.
+  std::vector<char> m_still;
+  bool m_stepped = false;
   std::vector<Pair_report> m_reports;
   std::vector<Rigid_pose_3> m_poses;
   std::vector<Twist_3> m_twists;

@@ -11,6 +11,7 @@
 
 #include "algorithms/body_pair/Body_pair_options.h"
 #include "algorithms/body_pair/Tracking_model.h"
+#include "algorithms/body_pair/internal/Tuning.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"
 
@@ -73,6 +74,13 @@ inline Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const R
   m.move_b = move_b + rounding;
   m.closer = std::min(m.move_a, m.move_b);
   return m;
+}
+
+// Whether two relative poses are equal to rounding (their difference no motion at all), for
+// bodies of size `length`.
+inline bool near_pose(const Rigid_pose_3& x, const Rigid_pose_3& y, double length) {
+  return (x.rotation() - y.rotation()).cwiseAbs().maxCoeff() <= k_same_pose &&
+         (x.translation() - y.translation()).cwiseAbs().maxCoeff() <= k_same_pose * length;
 }
 
 // Mesh triangles against triangles or the point: closed forms, no tracker.
