@@ -140,6 +140,7 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   }
   m_last_relative = relative;
   m_broad_reach = reach;
+  m_queue_dirty = true;
   ++m_context.stats.broad_phases;
 }
 
@@ -151,6 +152,7 @@ Kept_proof_stage::~Kept_proof_stage() = default;
 
 void Kept_proof_stage::clear() {
   m_candidates.clear();
+  m_queue_dirty = true;
   m_proofs.clear();
   m_bounds.clear();
   m_solve_poses.clear();
@@ -185,6 +187,7 @@ void Kept_proof_stage::track(int pa, int pb, const Rigid_pose_3& relative) {
   m_candidates.insert(std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
                                        [](const Candidate& x, std::uint64_t k) { return x.key < k; }),
                       c);
+  m_queue_dirty = true;  // (the indices moved)
 }
 
 }  // namespace extremal::internal

@@ -84,6 +84,9 @@ struct Pair_statistics {
   // motion since it was certified) could not clear them, which ran the restricted certified
   // solver; and the trackers those solves seeded on a closer basin.
   long vacated_checks = 0, vacated_solves = 0, vacated_seeds = 0;
+  // Candidate pairs a step certified by their queued bound alone, without a check (their bound,
+  // less the motion since, still clears the tracked minimum).
+  long vacated_queued = 0;
   // Of those solves, the ones on a face sharing a patch side with a tracked face (a crease:
   // the side declared carried).
   long vacated_crease_solves = 0;

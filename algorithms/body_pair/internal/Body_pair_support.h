@@ -50,6 +50,7 @@ inline int key_b(std::uint64_t k) { return static_cast<int>(k & 0xffffffffu); }
 // displacement of either side.)
 struct Approach {
   double move_a = 0.0, move_b = 0.0, closer = 0.0;
+  double most = 0.0;  // the larger of move_a and move_b (bounds either side's displacement)
 };
 inline Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const Rigid_pose_3& X0,
                         const Rigid_pose_3& X1) {
@@ -73,6 +74,7 @@ inline Approach approach_bound(const Bbox_3& box_a, const Bbox_3& box_b, const R
   m.move_a = move_a + rounding;
   m.move_b = move_b + rounding;
   m.closer = std::min(m.move_a, m.move_b);
+  m.most = std::max(m.move_a, m.move_b);
   return m;
 }
 

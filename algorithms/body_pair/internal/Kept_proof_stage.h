@@ -91,6 +91,20 @@ class Kept_proof_stage final : public Candidate_stage {
     // Newton solve ended at, where the next starts.
     Vec4 located = Vec4::Zero();
     bool has_located = false;
+    // Its queue entries' generation (older entries are stale) and the step it was last
+    // checked at.
+    unsigned generation = 0;
+    long checked_step = -1;
+  };
+  // An entry of a queue of candidates (certify_apart): due once `key` falls below the level its
+  // queue is read at.
+  struct Queue_entry {
+    double key;
+    int index;  // into m_candidates
+    unsigned generation;
+  };
+  struct Queue_order {
+    bool operator()(const Queue_entry& x, const Queue_entry& y) const { return x.key > y.key; }
   };
   // The relative motion since each of a candidate's kept solves, as motions of B's points with
   // A held (b) or A's with B held (a), in those solves' world frames, and the lengths their
@@ -133,6 +147,14 @@ class Kept_proof_stage final : public Candidate_stage {
   // Whether certify_apart can certify primitive pair (pa, pb) without a tracker: both have
   // global elements and the pair is not a closed form (those always get a tracker).
   bool certifiable(int pa, int pb) const;
+  // Queues candidate C, just checked, with `lower` its bound at this step: in m_bound_queue at
+  // lower + m_moved (due once the motion since may have brought it below `need`), and while its
+  // set-aside proofs hold, in m_reach_queue at m_moved plus their remaining reach.
+  void queue(Candidate& C, double lower);
+  // The most entries either queue holds: queue() drops the stale ones before it passes this.
+  std::size_t queue_capacity() const { return k_queue_slack * m_candidates.size() + 64; }
+  // Every candidate due at the next check (the candidates were made anew, or seeded in contact).
+  void requeue_all();
   // Sets Candidate::tracked for the candidates a live slot tracks.
   void mark_tracked();
   // Sides of primitive p of body `side` (0 A, 1 B) shared (within a fraction of tol, Tuning.h)
@@ -202,6 +224,14 @@ class Kept_proof_stage final : public Candidate_stage {
   std::vector<Bbox_3> m_world_a, m_world_b;
   struct Broad_scratch;
   std::unique_ptr<Broad_scratch> m_scratch;
+  // The candidates without a tracker, queued by when the motion may have used up their bound
+  // (m_bound_queue, read at `need` plus m_moved) or their set-aside proofs' reach
+  // (m_reach_queue, read at m_moved): a step checks only the due ones. m_moved sums the
+  // relative motion's displacement bound (Approach::most) over the steps, up to X_AB = m_moved_at.
+  std::vector<Queue_entry> m_bound_queue, m_reach_queue;
+  bool m_queue_dirty = true;
+  double m_moved = 0.0;
+  Rigid_pose_3 m_moved_at;
   Rigid_pose_3 m_last_relative;       // X_AB at the last broad phase
   double m_broad_reach = -HUGE_VAL;  // the reach it was run with
 };

@@ -5,6 +5,8 @@
 // The options a user sets are in Body_pair_options.h. Not API.
 #pragma once
 
+#include <cstddef>
+
 namespace extremal::internal {
 
 // ---- Readings (Reading_rules, Live_set) --------------------------------------------------
@@ -113,6 +115,13 @@ constexpr double k_broad_extra = 0.5;
 constexpr double k_same_pose = 1e-14;
 
 // ---- Certification of candidates (Kept_proof_certification) ------------------------------
+// The candidates' queues are made anew once the motion summed in their keys exceeds this many
+// times the larger body's size (a key's rounding stays far below any budget). Shown by
+// BodyScenes.CarriedBoundsSkipMostRechecksAndStillCatchAnOvertakingBump.
+constexpr double k_requeue_motion = 1e3;
+// A candidates' queue drops its stale entries once it holds this many per candidate. Shown by
+// BodyScenes.SteadyTrackingAllocatesNothing.
+constexpr std::size_t k_queue_slack = 4;
 // A primitive is flat (a plane, a line: Primitive::flatness) when its control points lie within
 // this fraction of its size from one (imported planes and lines: to rounding). Shown by
 // BodyScenes.FlatAgainstConvexPairsNeedNoWatch.
@@ -172,6 +181,11 @@ constexpr int k_partial_restarts = 2;
 constexpr int k_compact_factor = 2;
 constexpr int k_compact_proofs = 1024;
 constexpr int k_compact_bounds = 4096;
+// They are compacted, rather than grown, when a solve's entries would pass their capacity and
+// at least this share of it is stale: a pool grows only when its live entries outgrow it, so a
+// periodic motion stops allocating once one period has passed. Shown by
+// BodyScenes.SteadyTrackingAllocatesNothing.
+constexpr double k_compact_stale_share = 0.25;
 
 // ---- Depth monitor -------------------------------------------------------------------------
 // Within the normal form's band (depths up to this fraction of the smaller body) the tracked
