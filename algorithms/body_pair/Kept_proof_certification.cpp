@@ -99,7 +99,7 @@ void Kept_proof_stage::mark_tracked() {
 
 bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
   mark_tracked();
-  m_queue_dirty = true;  // (every candidate is checked at the next step apart)
+  m_queue_dirty = m_queue_all_due = true;  // (every candidate is checked at the next step apart)
   bool seeded = false;
   for (Candidate& C : m_candidates) {
     if (C.tracked) continue;
@@ -140,27 +140,36 @@ void Kept_proof_stage::queue(Candidate& C, double lower) {
                 heap->end());
     std::make_heap(heap->begin(), heap->end(), Queue_order());
   }
-  m_bound_queue.push_back({lower + m_moved, index, C.generation});
+  C.bound_key = lower + m_moved;
+  C.reach_key = HUGE_VAL;
+  m_bound_queue.push_back({C.bound_key, index, C.generation});
   std::push_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
   if (!(C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL)) return;
   const Approach since = approach_bound(m_context.model_a->primitives()[key_a(C.key)].box,
                                         m_context.model_b->primitives()[key_b(C.key)].box,
                                         C.reach_at, m_context.relative);
   const double left = std::min(C.reach[0] - since.move_b, C.reach[1] - since.move_a);
-  m_reach_queue.push_back({m_moved + std::max(left, 0.0), index, C.generation});
+  C.reach_key = m_moved + std::max(left, 0.0);
+  m_reach_queue.push_back({C.reach_key, index, C.generation});
   std::push_heap(m_reach_queue.begin(), m_reach_queue.end(), Queue_order());
 }
 
-void Kept_proof_stage::requeue_all() {
+void Kept_proof_stage::requeue_all(bool all_due) {
   m_bound_queue.clear();
   m_reach_queue.clear();
   // (At most queue_capacity() entries each: a steady step never grows them.)
   m_bound_queue.reserve(queue_capacity() + 1);
   m_reach_queue.reserve(queue_capacity() + 1);
-  for (std::size_t i = 0; i < m_candidates.size(); ++i)
-    m_bound_queue.push_back({-HUGE_VAL, static_cast<int>(i), ++m_candidates[i].generation});
+  for (std::size_t i = 0; i < m_candidates.size(); ++i) {
+    Candidate& C = m_candidates[i];
+    if (all_due) C.bound_key = -HUGE_VAL, C.reach_key = HUGE_VAL;
+    const int index = static_cast<int>(i);
+    m_bound_queue.push_back({C.bound_key, index, ++C.generation});
+    if (C.reach_key < HUGE_VAL) m_reach_queue.push_back({C.reach_key, index, C.generation});
+  }
   std::make_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
-  m_queue_dirty = false;
+  std::make_heap(m_reach_queue.begin(), m_reach_queue.end(), Queue_order());
+  m_queue_dirty = m_queue_all_due = false;
 }
 
 bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
@@ -483,9 +492,9 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   // (Keys carry m_moved: started again before its rounding could matter against the budget.)
   if (m_moved > k_requeue_motion * m_context.length()) {
     m_moved = 0.0;
-    m_queue_dirty = true;
+    m_queue_dirty = m_queue_all_due = true;
   }
-  if (m_queue_dirty) requeue_all();
+  if (m_queue_dirty) requeue_all(m_queue_all_due);
   const long step = m_context.steps;
   long checks = 0;
   auto checked = [&](Candidate& C, double lower) {

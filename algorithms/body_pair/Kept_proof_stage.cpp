@@ -152,7 +152,7 @@ Kept_proof_stage::~Kept_proof_stage() = default;
 
 void Kept_proof_stage::clear() {
   m_candidates.clear();
-  m_queue_dirty = true;
+  m_queue_dirty = m_queue_all_due = true;
   m_proofs.clear();
   m_bounds.clear();
   m_solve_poses.clear();

@@ -91,10 +91,12 @@ class Kept_proof_stage final : public Candidate_stage {
     // Newton solve ended at, where the next starts.
     Vec4 located = Vec4::Zero();
     bool has_located = false;
-    // Its queue entries' generation (older entries are stale) and the step it was last
-    // checked at.
+    // Its queue entries' generation (older entries are stale), the step it was last checked
+    // at, and its entries' keys (carried when the queues are made again over new indices; a
+    // candidate never checked is due at once).
     unsigned generation = 0;
     long checked_step = -1;
+    double bound_key = -HUGE_VAL, reach_key = HUGE_VAL;
   };
   // An entry of a queue of candidates (certify_apart): due once `key` falls below the level its
   // queue is read at.
@@ -153,8 +155,10 @@ class Kept_proof_stage final : public Candidate_stage {
   void queue(Candidate& C, double lower);
   // The most entries either queue holds: queue() drops the stale ones before it passes this.
   std::size_t queue_capacity() const { return k_queue_slack * m_candidates.size() + 64; }
-  // Every candidate due at the next check (the candidates were made anew, or seeded in contact).
-  void requeue_all();
+  // Makes the queues again over the candidates' current indices: each at its carried keys, or
+  // every one due at once when `all_due` (their keys no longer hold: seeded in contact, or
+  // m_moved started again).
+  void requeue_all(bool all_due);
   // Sets Candidate::tracked for the candidates a live slot tracks.
   void mark_tracked();
   // Sides of primitive p of body `side` (0 A, 1 B) shared (within a fraction of tol, Tuning.h)
@@ -229,7 +233,8 @@ class Kept_proof_stage final : public Candidate_stage {
   // (m_reach_queue, read at m_moved): a step checks only the due ones. m_moved sums the
   // relative motion's displacement bound (Approach::most) over the steps, up to X_AB = m_moved_at.
   std::vector<Queue_entry> m_bound_queue, m_reach_queue;
-  bool m_queue_dirty = true;
+  bool m_queue_dirty = true;     // the candidates' indices changed
+  bool m_queue_all_due = true;   // and their keys no longer hold
   double m_moved = 0.0;
   Rigid_pose_3 m_moved_at;
   Rigid_pose_3 m_last_relative;       // X_AB at the last broad phase
