@@ -233,6 +233,7 @@ class Kept_proof_stage final : public Candidate_stage {
   // (m_reach_queue, read at m_moved): a step checks only the due ones. m_moved sums the
   // relative motion's displacement bound (Approach::most) over the steps, up to X_AB = m_moved_at.
   std::vector<Queue_entry> m_bound_queue, m_reach_queue;
+  std::vector<Queue_entry> m_queue_kept;  // (certify_apart's scratch)
   bool m_queue_dirty = true;     // the candidates' indices changed
   bool m_queue_all_due = true;   // and their keys no longer hold
   double m_moved = 0.0;

@@ -116,9 +116,9 @@ constexpr double k_same_pose = 1e-14;
 
 // ---- Certification of candidates (Kept_proof_certification) ------------------------------
 // The candidates' queues are made anew once the motion summed in their keys exceeds this many
-// times the larger body's size (a key's rounding stays far below any budget). Shown by
-// BodyScenes.CarriedBoundsSkipMostRechecksAndStillCatchAnOvertakingBump.
-constexpr double k_requeue_motion = 1e3;
+// times the larger body's size (a key's rounding, subtracted from its bound, stays about 1e-14
+// of that motion). Shown by BodyScenes.CarriedBoundsSkipMostRechecksAndStillCatchAnOvertakingBump.
+constexpr double k_requeue_motion = 1e2;
 // A candidates' queue drops its stale entries once it holds this many per candidate. Shown by
 // BodyScenes.SteadyTrackingAllocatesNothing.
 constexpr std::size_t k_queue_slack = 4;
