@@ -140,6 +140,12 @@ void Kept_proof_stage::queue(Candidate& C, double lower) {
                 heap->end());
     std::make_heap(heap->begin(), heap->end(), Queue_order());
   }
+  // (A bound that holds this step only, a pair located off its primitives, whose sides carry it:
+  // queued at its boxes, so that it is located again once the motion may have used them up.
+  // Test BodyScenes.APairLocatedOffItsPrimitivesIsCheckedAgain.)
+  if (!(lower < HUGE_VAL))
+    lower = box_distance(m_context.model_a->primitives()[key_a(C.key)].box,
+                         transformed(m_context.model_b->primitives()[key_b(C.key)].box, m_context.relative));
   C.bound_key = lower + m_moved;
   C.reach_key = HUGE_VAL;
   m_bound_queue.push_back({C.bound_key, index, C.generation});
@@ -487,8 +493,10 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   // Tracked and creased candidates are checked at every step (their readings and carriers
   // change without motion); the others when their queue entries say the motion may have used
   // up their bound or their set-aside proofs' reach (m_bound_queue, m_reach_queue).
-  m_moved += approach_bound(m_context.model_a->box(), m_context.model_b->box(), m_moved_at,
-                            m_context.relative).most;
+  // (Rounded up: the sum never falls below the motion it adds up.)
+  m_moved = (m_moved + approach_bound(m_context.model_a->box(), m_context.model_b->box(),
+                                      m_moved_at, m_context.relative).most) *
+            (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
   m_moved_at = m_context.relative;
   // (Keys carry m_moved: started again before its rounding could matter against the budget.)
   if (m_moved > k_requeue_motion * m_context.length()) {
@@ -498,14 +506,22 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   if (m_queue_dirty) requeue_all(m_queue_all_due);
   const long step = m_context.steps;
   long checks = 0;
+  // A candidate checked while tracked is checked again at its next step whether or not it is
+  // still tracked: its key was the tracker's reading, which holds while the tracker does.
+  // (Rows' bounds against the one-shot solver: Certificate.EveryApartRowsLowerBoundHoldsAgainstTheOneShotSolver.)
   auto checked = [&](Candidate& C, double lower) {
     C.checked_step = step;
+    C.checked_tracked = C.tracked;
     certified = std::min(certified, lower);
     queue(C, lower);
     ++checks;
   };
   for (Candidate& C : m_candidates)
-    if (C.tracked || C.carried[0] != 0u || C.carried[1] != 0u) checked(C, check(C));
+    if (C.tracked || C.checked_tracked || C.carried[0] != 0u || C.carried[1] != 0u) {
+      const bool tracked = C.tracked;
+      checked(C, check(C));
+      C.checked_tracked = C.checked_tracked || tracked;
+    }
   // An entry's key less m_moved, less the rounding of both (what its candidate's bound, or its
   // proofs' reach, is at least now).
   auto left = [&](const Queue_entry& e) {
@@ -536,13 +552,22 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   };
   pop_due(m_bound_queue, need_apart);
   pop_due(m_reach_queue, 0.0);
-  // The candidates not checked: their queued bounds, less the motion since.
-  while (!m_bound_queue.empty() &&
-         m_bound_queue.front().generation != m_candidates[static_cast<std::size_t>(m_bound_queue.front().index)].generation) {
+  // The candidates not checked: their queued bounds, less the motion since (those checked
+  // gave their bound above; their keys say only when to look again).
+  m_queue_kept.clear();
+  while (!m_bound_queue.empty()) {
+    const Queue_entry& e = m_bound_queue.front();
+    const Candidate& C = m_candidates[static_cast<std::size_t>(e.index)];
+    if (e.generation == C.generation && C.checked_step != step) break;
+    if (e.generation == C.generation) m_queue_kept.push_back(e);
     std::pop_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
     m_bound_queue.pop_back();
   }
   if (!m_bound_queue.empty()) certified = std::min(certified, left(m_bound_queue.front()));
+  for (const Queue_entry& e : m_queue_kept) {
+    m_bound_queue.push_back(e);
+    std::push_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
+  }
   m_context.stats.vacated_queued += static_cast<long>(m_candidates.size()) - checks;
   m_context.certified_lower = certified;
   m_context.certified_at = m_context.steps;

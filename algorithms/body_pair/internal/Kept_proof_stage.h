@@ -96,6 +96,7 @@ class Kept_proof_stage final : public Candidate_stage {
     // candidate never checked is due at once).
     unsigned generation = 0;
     long checked_step = -1;
+    bool checked_tracked = false;  // tracked at its last check (certify_apart)
     double bound_key = -HUGE_VAL, reach_key = HUGE_VAL;
   };
   // An entry of a queue of candidates (certify_apart): due once `key` falls below the level its
