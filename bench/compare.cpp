@@ -442,14 +442,8 @@ Row run_fcl(const Scenario& s, Reference_cache& ref, const std::vector<long>& fr
   row.family = "FCL distance, OBBRSS";
   row.method = "FCL distance (OBBRSS)";
   const auto t0 = Clock::now();
-  auto build = [](const Mesh& m) {
-    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-    model->beginModel(static_cast<int>(m.triangles.size()), static_cast<int>(m.vertices.size()));
-    model->addSubModel(m.vertices, m.triangles);
-    model->endModel();
-    return model;
-  };
-  const auto A = build(ma), B = build(mb);
+  const auto A = bench::fcl_model(ma.vertices, ma.triangles);
+  const auto B = bench::fcl_model(mb.vertices, mb.triangles);
   char buf[160];
   std::snprintf(buf, sizeof buf, "%s: %zu + %zu triangles (build %.2f s)", label.c_str(),
                 ma.triangles.size(), mb.triangles.size(), micros_since(t0) * 1e-6);
@@ -799,7 +793,7 @@ void run_budget_sweep(Scenario& s, bool quick, const std::string& out_dir) {
       s.key == "b" ? std::vector<double>{1000, 10000} : std::vector<double>{1000};
   for (double rate : rates)
     for (double budget : bench::k_swept_budgets) {
-      Tracker_config c{rate, 1.0, 10, 0};
+      Tracker_config c{rate, 1.0, Body_pair_options{}.tracker.corrections, 0};
       c.budget = budget;
       rows.push_back(run_tracker(s, ref, c));
       std::fprintf(stderr, "(%s) %s %s: %.0f s\n", s.key.c_str(), rows.back().method.c_str(),

@@ -643,9 +643,9 @@ TEST(Contact, DeepPassagesReportTheDepthAndLeaveApart) {
 
 // A point rising along a solid cylinder's axis (radius 2, z in [0, 6]): inside, the depth is the
 // nearest of bottom, side and top. On the axis the side is a continuum of equal minima, whose
-// solve runs out of budget with its witness at the side's distance: that witness alone shows a
-// deeper cap's pair stale (it was kept, 2.16 too deep, until the top cap took over). Checks run
-// each time the point moved a hundredth of the cylinder's diagonal: rows lag by at most two.
+// solve runs out of budget with its witness at the side's distance; that uncertified witness
+// still shows a deeper cap's pair stale. Checks run each time the point moved a hundredth of
+// the cylinder's diagonal: rows lag by at most two.
 TEST(Contact, APointRisingInACylinderReadsItsDepth) {
   const Body cylinder = make_cylinder_body(2.0, 6.0), point = make_point_body();
   auto up = [](double t) { return Vec3(0.0, 0.0, -1.0 + 4.0 * t); };

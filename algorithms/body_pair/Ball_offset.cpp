@@ -25,13 +25,12 @@ int reported_dimension(const Tracking_model& model, int f) {
 // The parameters, among a grid over the face's domain, of the sample nearest to the world point
 // p (the witness's first start).
 Vec4 nearest_sample(const Feature& face, const Rigid_pose_3& X, const Vec3& p) {
-  constexpr int k_grid = 16;
   Vec4 best = Vec4::Zero();
   double least = HUGE_VAL;
-  for (int i = 0; i <= k_grid; ++i)
-    for (int j = 0; j <= k_grid; ++j) {
-      const double q[2] = {face.lower(0) + (face.upper(0) - face.lower(0)) * i / k_grid,
-                           face.lower(1) + (face.upper(1) - face.lower(1)) * j / k_grid};
+  for (int i = 0; i <= k_witness_start_grid; ++i)
+    for (int j = 0; j <= k_witness_start_grid; ++j) {
+      const double q[2] = {face.lower(0) + (face.upper(0) - face.lower(0)) * i / k_witness_start_grid,
+                           face.lower(1) + (face.upper(1) - face.lower(1)) * j / k_witness_start_grid};
       Feature_point f;
       evaluate_feature(face, X, q, f, 0);
       const double d = (f.p - p).squaredNorm();

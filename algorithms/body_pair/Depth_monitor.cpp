@@ -143,9 +143,8 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
     if (m_context.model_a->body().is_point || m_context.model_b->body().is_point) {
       const double tol = std::max(m_context.options.global.absolute_tolerance,
                                   m_context.options.global.relative_tolerance * g.distance);
-      // (A witness shallower than the tracked depth shows that depth stale, certified or not:
-      // a point on a cylinder's axis, its side a continuum of equal minima the solve does not
-      // close, kept a cap's deeper pair. Test Contact.APointRisingInACylinderReadsItsDepth.)
+      // (Any witness shallower than the tracked depth shows that depth stale, certified or
+      // not: it is seeded. Test Contact.APointRisingInACylinderReadsItsDepth.)
       if (!(-g.distance > deeper + tol) || m_context.solved.pa < 0 || m_context.solved.pb < 0)
         return false;
       m_seeding.add_inside(m_context.solved.pa, m_context.solved.pb, m_context.solved.params, X_WA, X_WB);

@@ -125,6 +125,17 @@ bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pos
   return seeded;
 }
 
+void Kept_proof_stage::forget_proofs(Candidate& C, double lower) {
+  C.lower = lower;
+  C.at = m_context.relative;
+  C.reach = {HUGE_VAL, HUGE_VAL};
+  C.reach_at = m_context.relative;
+  C.carried = {0u, 0u};
+  m_kept_proof_total -= C.proof_count;
+  m_kept_bound_total -= C.bound_count;
+  C.proof_count = C.bound_count = C.solve_count = 0;
+}
+
 void Kept_proof_stage::queue(Candidate& C, double lower) {
   ++C.generation;
   const int index = static_cast<int>(&C - m_candidates.data());
@@ -210,114 +221,96 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   // The check of one candidate: its certified lower bound at this step (seeding it where it
   // holds something closer).
   auto check = [&](Candidate& C) -> double {
-      // A pair holds its tracked distance only through a valid tracker: one whose trackers all
-      // hold nothing (wandering, or sat on a false solution where its surfaces cross: a ball
-      // cutting a shell's face read 'tracking' at +0.025 on another face) is certified as an
-      // untracked one.
-      const bool held = std::isfinite(C.tracked_distance);
-      const int pa = key_a(C.key), pb = key_b(C.key);
-      const Primitive& A = m_context.model_a->primitives()[pa];
-      const Primitive& B = m_context.model_b->primitives()[pb];
-      // Pairs not watched or not certifiable: a converged tracked reading is the pair's minimum
-      // between convex bodies, and a closed form's is exact; otherwise the last certified bound,
-      // decayed, or the boxes.
-      // (A flat pair, or a flat primitive against a convex body, has one basin: its converged
-      // tracker reads its minimum. Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.)
-      const bool one_basin = held && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance) &&
-                             m_live.is_converged(m_live[C.tracked_slot], k_converged_error);
-      if ((held && (!watch || one_basin)) || !certifiable(pa, pb)) {
-        const bool exact = held && (!watch || one_basin || m_live[C.tracked_slot].closed_form);
-        double lower = exact ? C.tracked_distance
-                             : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
-        if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
-        return lower;
-      }
-      // A tracked pair is watched for another basin of its own: what must clear is its tracked
-      // distance less the gap (or the tracked minimum, if lower), and every cutoff stays below
-      // the tracked basin (half the gap), so the solves settle it rather than converge on it.
-      double need = need_apart;
-      double ceiling = HUGE_VAL;
-      if (held) {
-        const double gap =
-            std::max(k_seeding_slack * tol,
-                     std::min(o.own_basin_gap * C.tracked_distance, o.tolerance.at(C.tracked_distance)));
-        need = std::min(need_apart, C.tracked_distance - gap);
-        ceiling = C.tracked_distance - k_watch_ceiling * gap;
-      }
-      auto below_ceiling = [&](double cutoff) { return std::max(need + tol, std::min(cutoff, ceiling)); };
-      ++m_context.stats.vacated_checks;
-      // The bound carried from an earlier step, less how much closer the pair can have come;
-      // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
-      // side shared with a face whose pair is tracked) stay so while the relative motion is
-      // below their gradient's reach and the carrying pairs are still tracked (see below).
-      const Approach moved = approach_bound(A.box, B.box, C.at, m_context.relative);
-      double lower_now = C.lower - moved.closer;
-      bool clear = lower_now >= need;
-      if (!clear && C.bound_count > 0) {
-        // The decay assumed the worst direction of motion for the whole pair: its last solve's
-        // bounded sub-patch pairs, re-bounded at this pose, often still clear it.
-        const double now = bounds_now(C, need);
-        if (now >= need) {
-          clear = true;
-          ++m_context.stats.vacated_bound_checks;
-          C.lower = lower_now = now;
-          C.at = m_context.relative;
-        }
-      }
-      if (clear && carriers_tracked(C)) {
-        const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
-        const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_context.relative) : moved;
-        bool holds = since.move_b < C.reach[0] && since.move_a < C.reach[1];
-        // Past the reach, which assumed the worst direction of motion: the set-aside pairs
-        // checked again at this pose (the other box moved rigidly) usually still hold.
-        std::array<double, 2> reach;
-        if (!holds && proofs_hold(C, reach)) {
-          holds = true;
-          ++m_context.stats.vacated_proof_checks;
-          C.reach = reach;
-          C.reach_at = m_context.relative;
-        }
-        if (holds) {
-          return lower_now;
-        }
-      }
-      const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
-      if (boxes >= need) {
-        C.lower = boxes;
+    // A pair holds its tracked distance only through a valid tracker: one whose trackers all
+    // hold nothing (wandering, or sat on a false solution where its surfaces cross: a ball
+    // cutting a shell's face read 'tracking' at +0.025 on another face) is certified as an
+    // untracked one.
+    const bool held = std::isfinite(C.tracked_distance);
+    const int pa = key_a(C.key), pb = key_b(C.key);
+    const Primitive& A = m_context.model_a->primitives()[pa];
+    const Primitive& B = m_context.model_b->primitives()[pb];
+    // Pairs not watched or not certifiable: a converged tracked reading is the pair's minimum
+    // between convex bodies, and a closed form's is exact; otherwise the last certified bound,
+    // decayed, or the boxes.
+    // (A flat pair, or a flat primitive against a convex body, has one basin: its converged
+    // tracker reads its minimum. Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.)
+    const bool one_basin = held && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance) &&
+                           m_live.is_converged(m_live[C.tracked_slot], k_converged_error);
+    if ((held && (!watch || one_basin)) || !certifiable(pa, pb)) {
+      const bool exact = held && (!watch || one_basin || m_live[C.tracked_slot].closed_form);
+      double lower = exact ? C.tracked_distance
+                           : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
+      if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
+      return lower;
+    }
+    // A tracked pair is watched for another basin of its own: what must clear is its tracked
+    // distance less the gap (or the tracked minimum, if lower), and every cutoff stays below
+    // the tracked basin (half the gap), so the solves settle it rather than converge on it.
+    double need = need_apart;
+    double ceiling = HUGE_VAL;
+    if (held) {
+      const double gap =
+          std::max(k_seeding_slack * tol,
+                   std::min(o.own_basin_gap * C.tracked_distance, o.tolerance.at(C.tracked_distance)));
+      need = std::min(need_apart, C.tracked_distance - gap);
+      ceiling = C.tracked_distance - k_watch_ceiling * gap;
+    }
+    auto below_ceiling = [&](double cutoff) { return std::max(need + tol, std::min(cutoff, ceiling)); };
+    ++m_context.stats.vacated_checks;
+    // The bound carried from an earlier step, less how much closer the pair can have come;
+    // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
+    // side shared with a face whose pair is tracked) stay so while the relative motion is
+    // below their gradient's reach and the carrying pairs are still tracked (see below).
+    const Approach moved = approach_bound(A.box, B.box, C.at, m_context.relative);
+    double lower_now = C.lower - moved.closer;
+    bool clear = lower_now >= need;
+    if (!clear && C.bound_count > 0) {
+      // The decay assumed the worst direction of motion for the whole pair: its last solve's
+      // bounded sub-patch pairs, re-bounded at this pose, often still clear it.
+      const double now = bounds_now(C, need);
+      if (now >= need) {
+        clear = true;
+        ++m_context.stats.vacated_bound_checks;
+        C.lower = lower_now = now;
         C.at = m_context.relative;
-        C.reach = {HUGE_VAL, HUGE_VAL};
-        C.reach_at = m_context.relative;
-        C.carried = {0u, 0u};
-        m_kept_proof_total -= C.proof_count;
-        m_kept_bound_total -= C.bound_count;
-        C.proof_count = C.bound_count = C.solve_count = 0;
-        return boxes;
       }
-      // A pair with one basin: its stationary point by Newton's method, not the branch and bound.
-      // Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.
-      if (!held && m_context.single_basin_locatable(pa, pb, best)) {
-        Vec4 params;
-        if (const std::optional<double> located = locate_single_basin(C, pa, pb, params)) {
-          ++m_context.stats.located;
-          m_kept_proof_total -= C.proof_count;
-          m_kept_bound_total -= C.bound_count;
-          C.proof_count = C.bound_count = C.solve_count = 0;
-          C.reach = {HUGE_VAL, HUGE_VAL};
-          C.reach_at = m_context.relative;
-          C.carried = {0u, 0u};
-          C.at = m_context.relative;
-          // (Off the primitives: the pair is located again at its next check, from the boxes.)
-          C.lower = *located < HUGE_VAL ? *located : boxes;
-          if (*located >= need) {
-            return *located;
-          }
-          // A closer basin: tracked from here on (on the primitives: a point held on a patch
-          // side that is no edge of a face is solved instead).
-          const int na = A.feature.dimension();
-          if (!m_context.model_a->contains(pa, params.data()) ||
-              !m_context.model_b->contains(pb, params.data() + na)) {
-            C.lower = -HUGE_VAL;
-          } else {
+    }
+    if (clear && carriers_tracked(C)) {
+      const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
+      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_context.relative) : moved;
+      bool holds = since.move_b < C.reach[0] && since.move_a < C.reach[1];
+      // Past the reach, which assumed the worst direction of motion: the set-aside pairs
+      // checked again at this pose (the other box moved rigidly) usually still hold.
+      std::array<double, 2> reach;
+      if (!holds && proofs_hold(C, reach)) {
+        holds = true;
+        ++m_context.stats.vacated_proof_checks;
+        C.reach = reach;
+        C.reach_at = m_context.relative;
+      }
+      if (holds) {
+        return lower_now;
+      }
+    }
+    const double boxes = box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB));
+    if (boxes >= need) {
+      forget_proofs(C, boxes);
+      return boxes;
+    }
+    // A pair with one basin: its stationary point by Newton's method, not the branch and bound.
+    // Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.
+    if (!held && m_context.single_basin_locatable(pa, pb, best)) {
+      Vec4 params;
+      if (const std::optional<double> located = locate_single_basin(C, pa, pb, params)) {
+        ++m_context.stats.located;
+        // (Off the primitives: the pair is located again at its next check, from the boxes.)
+        forget_proofs(C, *located < HUGE_VAL ? *located : boxes);
+        if (*located >= need) return *located;
+        // A closer basin: tracked from here on (on the primitives: a point held on a patch
+        // side that is no edge of a face is solved instead).
+        const int na = A.feature.dimension();
+        if (m_context.model_a->contains(pa, params.data()) &&
+            m_context.model_b->contains(pb, params.data() + na)) {
           if (*located <= m_context.options.contact_tolerance) meet = true;
           const int slot = m_live.add(pa, pb, params);
           m_live[slot].seeded_apart = true;
@@ -325,170 +318,171 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
           ++m_context.stats.vacated_seeds;
           C.tracked = true;
           return *located;
-          }
         }
+        C.lower = -HUGE_VAL;
       }
-      // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
-      // pair when it holds something closer than the tracked minimum, and otherwise leaves a
-      // lower bound that stays clear of `need` for the next steps.
-      ++m_context.stats.vacated_solves;
-      if (clear) ++m_context.stats.vacated_reach_solves;
-      const double step_motion = approach_bound(A.box, B.box, m_context.previous_relative, m_context.relative).closer;
-      // At most the broad phase's margin: a cutoff far above the minimum would have the solver
-      // settle every pair below it. When one step's motion exceeds that margin (low rates) the
-      // bound cannot outlast the step anyway: cut off at `need` itself.
-      const double cap = m_context.reach_margin();
-      const double slack =
-          step_motion >= cap
-              ? k_seeding_slack * tol
-              : std::max(k_seeding_slack * tol,
-                         std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
-      internal::Proof_request proof;
-      proof.keep_proofs = true;
-      // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
-      // about the tracker's point, not by hull bounds (Distance_request::stationary).
-      if (held && !m_live[C.tracked_slot].closed_form &&
-          A.kind != Primitive_kind::Triangle && B.kind != Primitive_kind::Triangle) {
-        const Vec4& q = m_live[C.tracked_slot].result.params;
-        proof.stationary = std::array<double, 4>{{q[0], q[1], q[2], q[3]}};
-      }
-      proof.motion_axis = turning;
-      request.cutoff = below_ceiling(need + slack);
-      // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
-      proof.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
-      // Crease ties. A face sharing a patch side with a face whose pair with the same other
-      // primitive is tracked (a C0 join of a multi-patch body) has its minimum on that side when
-      // the tracked point sits there: it ties the tracked minimum and no bound of the pair can
-      // clear it. Such sides are declared carried: sub-patch pairs over which the gradient of the
-      // squared distance along this face's parameters provably does not vanish, touching no other
-      // side, are set aside, and the others are settled at the cutoff (the floor: a witness at or
-      // above `need`, such as the tie itself, does not stop the solve). Why that is exact: were
-      // the pair's minimum x* below `need`, it would lie in a set-aside sub-patch pair (the others
-      // are bounded above it), where a non-vanishing gradient component puts a minimiser on the
-      // domain boundary, i.e. on a carried side (no other side is touched); that side is the
-      // tracked neighbour's too (within side_gap <= tol / 4), so the tracked pair would hold a
-      // point below its tracked minimum by more than the tolerance - what every tracked pair is
-      // taken not to do (up to the watch's own_basin_gap, below), required here of a converged
-      // tracker only (tracks_converged: a lagging one may sit above the crease). After motion,
-      // the gradient keeps its sign while the other primitive has moved less than the reach the
-      // solve reports, and the other pairs' bound decays as before; a deeper minimum of the face
-      // away from the side is found as any other basin (its pairs are neither set aside nor
-      // above it).
-      // The pair's elements whole, or only the sub-patch pairs in m_restarts (`partial`).
-      auto solve = [&](const Distance_request& r, const internal::Proof_request& p, bool partial) {
-        const Distance_hierarchy& ha = m_context.model_a->hierarchy();
-        const Distance_hierarchy& hb = m_context.model_b->hierarchy();
-        Distance_result result =
-            partial ? internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                                          B.global_element, m_restarts, r, p,
-                                                          m_context.workspace)
-                    : internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                                          B.global_element, r, p, m_context.workspace);
-        m_context.stats.vacated_nodes += result.nodes_created;
-        return result;
-      };
-      // (Not for a tracked pair's watch: two tracked pairs on one crease would each leave the
-      // shared side to the other, and a closer point on it to neither.)
-      unsigned carried_a = held ? 0u : carried_sides(0, pa, pb, tol);
-      unsigned carried_b = held ? 0u : carried_sides(1, pb, pa, tol);
-      const bool carrying = (carried_a | carried_b) != 0u;
-      // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
-      // edge) would likewise be solved to its witness there every time: it is proved against a
-      // cutoff too (floor `need`), its pairs at the edge set aside by their gradient. Untrimmed
-      // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
-      const bool trimmed = m_context.model_a->hierarchy().elements()[A.global_element].trimmed ||
-                           m_context.model_b->hierarchy().elements()[B.global_element].trimmed;
-      // An edge's pair whose last solve found its own minimum just above the tracked one (an edge
-      // of a face beside the tracked point) would exhaust the proving budget at every check
-      // against that minimum before the usual solve: it goes to the usual solve at once. (Faces'
-      // pairs keep the proof: settling them to their witness costs more than it saves.)
-      const bool prove = (carrying || trimmed) &&
-                         !(C.holds_own_minimum && !carrying &&
-                           (A.kind == Primitive_kind::Edge || B.kind == Primitive_kind::Edge));
-      Distance_request first = request;
-      internal::Proof_request first_proof = proof;
-      if (prove) {
-        first_proof.cutoff_floor = need;
-        first.max_nodes = k_crease_nodes;
-        if (carrying) {
-          first_proof.carried_sides = {carried_a, carried_b};
-          // Cutoff and gradient reach alike (the motion either proof outlasts).
-          const double crease_slack =
-              step_motion >= cap ? k_seeding_slack * tol : std::max(k_seeding_slack * tol, k_crease_fraction * cap);
-          first.cutoff = below_ceiling(need + crease_slack);
-          first_proof.carried_min_reach = crease_slack;
-          ++m_context.stats.vacated_crease_solves;
-        } else {
-          first.cutoff =
-              below_ceiling(need + std::max(k_seeding_slack * tol, std::min(slack, k_proving_steps * step_motion)));
-          first_proof.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
-        }
-      }
-      // Where the pair's kept proofs still clear the cutoff at this pose, only the sub-patch
-      // pairs whose proofs fail are solved again: the kept ones cover the rest of the domain.
-      // (Proofs kept for other carried sides rest on other trackers: not kept.) Pruned at the
-      // cutoff less the tolerance, as the solver prunes.
-      double kept_lower = HUGE_VAL;
-      std::array<double, 2> kept_reach{{HUGE_VAL, HUGE_VAL}};
-      const bool partial =
-          C.carried[0] == carried_a && C.carried[1] == carried_b &&
-          plan_partial_solve(C, A.global_element, B.global_element, first.cutoff - tol,
-                             first_proof.carried_min_reach, first.max_nodes, kept_lower,
-                             kept_reach);
-      Distance_result g = solve(first, first_proof, partial);
-      bool kept = partial;
-      // A proving solve not settled within its budget (a stationary point of the pair between
-      // the tracked minimum and the cutoff): the usual solve, to the witness. (Kept proofs are
-      // at or above the cutoff.)
-      if (prove && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
-        g = solve(request, proof, false);
-        carried_a = carried_b = 0u;
-        kept = false;
-      }
-      if (kept) ++m_context.stats.vacated_partial_solves;
-      // The watch's convex region about the tracked point, for the next steps' checks (a partial
-      // solve that did not reach the region keeps the one before: its box is re-certified at
-      // every use).
-      if (proof.stationary) {
-        if (const std::optional<Parameter_box> region = stationary_region(m_context.workspace)) {
-          C.region = *region;
-          C.has_region = true;
-          grow_region(C, A, B);
-        } else if (!kept) {
-          C.has_region = false;
-        }
+    }
+    // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
+    // pair when it holds something closer than the tracked minimum, and otherwise leaves a
+    // lower bound that stays clear of `need` for the next steps.
+    ++m_context.stats.vacated_solves;
+    if (clear) ++m_context.stats.vacated_reach_solves;
+    const double step_motion = approach_bound(A.box, B.box, m_context.previous_relative, m_context.relative).closer;
+    // At most the broad phase's margin: a cutoff far above the minimum would have the solver
+    // settle every pair below it. When one step's motion exceeds that margin (low rates) the
+    // bound cannot outlast the step anyway: cut off at `need` itself.
+    const double cap = m_context.reach_margin();
+    const double slack =
+        step_motion >= cap
+            ? k_seeding_slack * tol
+            : std::max(k_seeding_slack * tol,
+                       std::min(std::max(k_slack_steps * step_motion, k_slack_growth * C.slack), cap));
+    internal::Proof_request proof;
+    proof.keep_proofs = true;
+    // The watch: the tracked basin's own neighbourhood is settled by a convexity certificate
+    // about the tracker's point, not by hull bounds (Distance_request::stationary).
+    if (held && !m_live[C.tracked_slot].closed_form &&
+        A.kind != Primitive_kind::Triangle && B.kind != Primitive_kind::Triangle) {
+      const Vec4& q = m_live[C.tracked_slot].result.params;
+      proof.stationary = std::array<double, 4>{{q[0], q[1], q[2], q[3]}};
+    }
+    proof.motion_axis = turning;
+    request.cutoff = below_ceiling(need + slack);
+    // Trim-edge set-asides of trimmed faces: their proofs outlast a few steps' motion.
+    proof.carried_min_reach = std::min(slack, k_reach_steps * step_motion);
+    // Crease ties. A face sharing a patch side with a face whose pair with the same other
+    // primitive is tracked (a C0 join of a multi-patch body) has its minimum on that side when
+    // the tracked point sits there: it ties the tracked minimum and no bound of the pair can
+    // clear it. Such sides are declared carried: sub-patch pairs over which the gradient of the
+    // squared distance along this face's parameters provably does not vanish, touching no other
+    // side, are set aside, and the others are settled at the cutoff (the floor: a witness at or
+    // above `need`, such as the tie itself, does not stop the solve). Why that is exact: were
+    // the pair's minimum x* below `need`, it would lie in a set-aside sub-patch pair (the others
+    // are bounded above it), where a non-vanishing gradient component puts a minimiser on the
+    // domain boundary, i.e. on a carried side (no other side is touched); that side is the
+    // tracked neighbour's too (within side_gap <= tol / 4), so the tracked pair would hold a
+    // point below its tracked minimum by more than the tolerance - what every tracked pair is
+    // taken not to do (up to the watch's own_basin_gap, below), required here of a converged
+    // tracker only (tracks_converged: a lagging one may sit above the crease). After motion,
+    // the gradient keeps its sign while the other primitive has moved less than the reach the
+    // solve reports, and the other pairs' bound decays as before; a deeper minimum of the face
+    // away from the side is found as any other basin (its pairs are neither set aside nor
+    // above it).
+    // The pair's elements whole, or only the sub-patch pairs in m_restarts (`partial`).
+    auto solve = [&](const Distance_request& r, const internal::Proof_request& p, bool partial) {
+      const Distance_hierarchy& ha = m_context.model_a->hierarchy();
+      const Distance_hierarchy& hb = m_context.model_b->hierarchy();
+      Distance_result result =
+          partial ? internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
+                                                        B.global_element, m_restarts, r, p,
+                                                        m_context.workspace)
+                  : internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
+                                                        B.global_element, r, p, m_context.workspace);
+      m_context.stats.vacated_nodes += result.nodes_created;
+      return result;
+    };
+    // (Not for a tracked pair's watch: two tracked pairs on one crease would each leave the
+    // shared side to the other, and a closer point on it to neither.)
+    unsigned carried_a = held ? 0u : carried_sides(0, pa, pb, tol);
+    unsigned carried_b = held ? 0u : carried_sides(1, pb, pa, tol);
+    const bool carrying = (carried_a | carried_b) != 0u;
+    // A trimmed pair tied with the tracked minimum on a trim edge (the tracked pair holds that
+    // edge) would likewise be solved to its witness there every time: it is proved against a
+    // cutoff too (floor `need`), its pairs at the edge set aside by their gradient. Untrimmed
+    // pairs without carried sides have no such ties and nothing to set aside: the usual solve.
+    const bool trimmed = m_context.model_a->hierarchy().elements()[A.global_element].trimmed ||
+                         m_context.model_b->hierarchy().elements()[B.global_element].trimmed;
+    // An edge's pair whose last solve found its own minimum just above the tracked one (an edge
+    // of a face beside the tracked point) would exhaust the proving budget at every check
+    // against that minimum before the usual solve: it goes to the usual solve at once. (Faces'
+    // pairs keep the proof: settling them to their witness costs more than it saves.)
+    const bool prove = (carrying || trimmed) &&
+                       !(C.holds_own_minimum && !carrying &&
+                         (A.kind == Primitive_kind::Edge || B.kind == Primitive_kind::Edge));
+    Distance_request first = request;
+    internal::Proof_request first_proof = proof;
+    if (prove) {
+      first_proof.cutoff_floor = need;
+      first.max_nodes = k_crease_nodes;
+      if (carrying) {
+        first_proof.carried_sides = {carried_a, carried_b};
+        // Cutoff and gradient reach alike (the motion either proof outlasts).
+        const double crease_slack =
+            step_motion >= cap ? k_seeding_slack * tol : std::max(k_seeding_slack * tol, k_crease_fraction * cap);
+        first.cutoff = below_ceiling(need + crease_slack);
+        first_proof.carried_min_reach = crease_slack;
+        ++m_context.stats.vacated_crease_solves;
       } else {
+        first.cutoff =
+            below_ceiling(need + std::max(k_seeding_slack * tol, std::min(slack, k_proving_steps * step_motion)));
+        first_proof.carried_min_reach = std::min(first.cutoff - need, k_reach_steps * step_motion);
+      }
+    }
+    // Where the pair's kept proofs still clear the cutoff at this pose, only the sub-patch
+    // pairs whose proofs fail are solved again: the kept ones cover the rest of the domain.
+    // (Proofs kept for other carried sides rest on other trackers: not kept.) Pruned at the
+    // cutoff less the tolerance, as the solver prunes.
+    double kept_lower = HUGE_VAL;
+    std::array<double, 2> kept_reach{{HUGE_VAL, HUGE_VAL}};
+    const bool partial =
+        C.carried[0] == carried_a && C.carried[1] == carried_b &&
+        plan_partial_solve(C, A.global_element, B.global_element, first.cutoff - tol,
+                           first_proof.carried_min_reach, first.max_nodes, kept_lower,
+                           kept_reach);
+    Distance_result g = solve(first, first_proof, partial);
+    bool kept = partial;
+    // A proving solve not settled within its budget (a stationary point of the pair between
+    // the tracked minimum and the cutoff): the usual solve, to the witness. (Kept proofs are
+    // at or above the cutoff.)
+    if (prove && !(g.upper_bound < need) && !(g.uncarried_lower_bound >= need)) {
+      g = solve(request, proof, false);
+      carried_a = carried_b = 0u;
+      kept = false;
+    }
+    if (kept) ++m_context.stats.vacated_partial_solves;
+    // The watch's convex region about the tracked point, for the next steps' checks (a partial
+    // solve that did not reach the region keeps the one before: its box is re-certified at
+    // every use).
+    if (proof.stationary) {
+      if (const std::optional<Parameter_box> region = stationary_region(m_context.workspace)) {
+        C.region = *region;
+        C.has_region = true;
+        grow_region(C, A, B);
+      } else if (!kept) {
         C.has_region = false;
       }
-      C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
-      C.at = m_context.relative;
-      C.reach = g.carried_reach;
-      if (kept)
-        for (int side = 0; side < 2; ++side) C.reach[side] = std::min(C.reach[side], kept_reach[side]);
-      C.reach_at = m_context.relative;
-      C.carried = {carried_a, carried_b};
-      keep_proofs(C, Solve_pose{X_WA, m_context.relative}, kept);
-      C.slack = g.element_a < 0 ? slack : 0.0;
-      C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
-      if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) {
-        return C.lower;
-      }
-      if (g.upper_bound <= m_context.options.contact_tolerance) meet = true;
-      // A closer basin found by a solve that stopped short of the budget (proving, or partial):
-      // the pair solved whole, for a bound within the budget of the new minimum.
-      double lower = C.lower;
-      if (lower < certified_floor(g.upper_bound, o.tolerance))
-        lower = std::max(lower, solve(request, proof, false).uncarried_lower_bound);
-      Vec4 params = Vec4::Zero();
-      params_from_global(A, g.params_a, params.data());
-      params_from_global(B, g.params_b, params.data() + A.feature.dimension());
-      // (A tracked pair's tracker moves to its closer basin.)
-      const int slot = C.tracked ? m_seeding.place(pa, pb, params, X_WA, X_WB) : m_live.add(pa, pb, params);
-      m_live[slot].seeded_apart = true;
-      ++m_context.stats.seeds;
-      ++m_context.stats.vacated_seeds;
-      C.tracked = true;
-      return lower;
+    } else {
+      C.has_region = false;
+    }
+    C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
+    C.at = m_context.relative;
+    C.reach = g.carried_reach;
+    if (kept)
+      for (int side = 0; side < 2; ++side) C.reach[side] = std::min(C.reach[side], kept_reach[side]);
+    C.reach_at = m_context.relative;
+    C.carried = {carried_a, carried_b};
+    keep_proofs(C, Solve_pose{X_WA, m_context.relative}, kept);
+    C.slack = g.element_a < 0 ? slack : 0.0;
+    C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
+    if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) {
+      return C.lower;
+    }
+    if (g.upper_bound <= m_context.options.contact_tolerance) meet = true;
+    // A closer basin found by a solve that stopped short of the budget (proving, or partial):
+    // the pair solved whole, for a bound within the budget of the new minimum.
+    double lower = C.lower;
+    if (lower < certified_floor(g.upper_bound, o.tolerance))
+      lower = std::max(lower, solve(request, proof, false).uncarried_lower_bound);
+    Vec4 params = Vec4::Zero();
+    params_from_global(A, g.params_a, params.data());
+    params_from_global(B, g.params_b, params.data() + A.feature.dimension());
+    // (A tracked pair's tracker moves to its closer basin.)
+    const int slot = C.tracked ? m_seeding.place(pa, pb, params, X_WA, X_WB) : m_live.add(pa, pb, params);
+    m_live[slot].seeded_apart = true;
+    ++m_context.stats.seeds;
+    ++m_context.stats.vacated_seeds;
+    C.tracked = true;
+    return lower;
   };
   // Tracked and creased candidates are checked at every step (their readings and carriers
   // change without motion); the others when their queue entries say the motion may have used
@@ -509,23 +503,27 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   // A candidate checked while tracked is checked again at its next step whether or not it is
   // still tracked: its key was the tracker's reading, which holds while the tracker does.
   // (Rows' bounds against the one-shot solver: Certificate.EveryApartRowsLowerBoundHoldsAgainstTheOneShotSolver.)
-  auto checked = [&](Candidate& C, double lower) {
+  auto checked = [&](Candidate& C) {
+    const bool tracked = C.tracked;
+    const double lower = check(C);
     C.checked_step = step;
-    C.checked_tracked = C.tracked;
+    C.checked_tracked = tracked || C.tracked;
     certified = std::min(certified, lower);
     queue(C, lower);
     ++checks;
   };
   for (Candidate& C : m_candidates)
-    if (C.tracked || C.checked_tracked || C.carried[0] != 0u || C.carried[1] != 0u) {
-      const bool tracked = C.tracked;
-      checked(C, check(C));
-      C.checked_tracked = C.checked_tracked || tracked;
-    }
+    if (C.tracked || C.checked_tracked || C.carried[0] != 0u || C.carried[1] != 0u) checked(C);
   // An entry's key less m_moved, less the rounding of both (what its candidate's bound, or its
   // proofs' reach, is at least now).
   auto left = [&](const Queue_entry& e) {
     return e.key - m_moved - 4.0 * std::numeric_limits<double>::epsilon() * (std::abs(e.key) + m_moved);
+  };
+  auto push_kept = [&](std::vector<Queue_entry>& heap) {
+    for (const Queue_entry& e : m_queue_kept) {
+      heap.push_back(e);
+      std::push_heap(heap.begin(), heap.end(), Queue_order());
+    }
   };
   // Entries of candidates checked at this step whose new key is due all the same (their bound is
   // short of `need`) stay queued: a candidate's current entries are its only record until the
@@ -543,12 +541,9 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
         m_queue_kept.push_back(e);
         continue;
       }
-      checked(C, check(C));
+      checked(C);
     }
-    for (const Queue_entry& e : m_queue_kept) {
-      heap.push_back(e);
-      std::push_heap(heap.begin(), heap.end(), Queue_order());
-    }
+    push_kept(heap);
   };
   pop_due(m_bound_queue, need_apart);
   pop_due(m_reach_queue, 0.0);
@@ -564,10 +559,7 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     m_bound_queue.pop_back();
   }
   if (!m_bound_queue.empty()) certified = std::min(certified, left(m_bound_queue.front()));
-  for (const Queue_entry& e : m_queue_kept) {
-    m_bound_queue.push_back(e);
-    std::push_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
-  }
+  push_kept(m_bound_queue);
   m_context.stats.vacated_queued += static_cast<long>(m_candidates.size()) - checks;
   m_context.certified_lower = certified;
   m_context.certified_at = m_context.steps;

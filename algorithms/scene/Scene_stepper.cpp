@@ -18,7 +18,7 @@ void body_pose_at(const Scene_stepper_body& b, double t, Rigid_pose_3& pose, Twi
   const Twist_3 v = b.motion->twist_at(t);
   pose = entry * b.body->placement;
   twist.angular = v.angular;
-  twist.linear = v.linear + v.angular.cross(pose.translation() - entry.translation());
+  twist.linear = v.velocity_at(pose.translation(), entry);
 }
 
 Scene_stepper::Scene_stepper(std::vector<Scene_stepper_body> bodies,

@@ -9,9 +9,14 @@ std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Triangle_mesh& m) {
   std::vector<fcl::Triangle> t;
   for (const Point_3& p : m.vertices) v.emplace_back(p.x(), p.y(), p.z());
   for (const auto& f : m.triangles) t.emplace_back(f[0], f[1], f[2]);
+  return fcl_model(v, t);
+}
+
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const std::vector<fcl::Vector3d>& vertices,
+                                                       const std::vector<fcl::Triangle>& triangles) {
   auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-  model->beginModel(static_cast<int>(t.size()), static_cast<int>(v.size()));
-  model->addSubModel(v, t);
+  model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(vertices.size()));
+  model->addSubModel(vertices, triangles);
   model->endModel();
   return model;
 }

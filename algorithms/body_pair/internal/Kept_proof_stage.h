@@ -150,6 +150,8 @@ class Kept_proof_stage final : public Candidate_stage {
   // Whether certify_apart can certify primitive pair (pa, pb) without a tracker: both have
   // global elements and the pair is not a closed form (those always get a tracker).
   bool certifiable(int pa, int pb) const;
+  // C's bound becomes `lower` at the current pose, with no kept proofs, reach or carried sides.
+  void forget_proofs(Candidate& C, double lower);
   // Queues candidate C, just checked, with `lower` its bound at this step: in m_bound_queue at
   // lower + m_moved (due once the motion since may have brought it below `need`), and while its
   // set-aside proofs hold, in m_reach_queue at m_moved plus their remaining reach.
@@ -230,9 +232,10 @@ class Kept_proof_stage final : public Candidate_stage {
   struct Broad_scratch;
   std::unique_ptr<Broad_scratch> m_scratch;
   // The candidates without a tracker, queued by when the motion may have used up their bound
-  // (m_bound_queue, read at `need` plus m_moved) or their set-aside proofs' reach
-  // (m_reach_queue, read at m_moved): a step checks only the due ones. m_moved sums the
-  // relative motion's displacement bound (Approach::most) over the steps, up to X_AB = m_moved_at.
+  // (m_bound_queue: due once a key less m_moved falls below `need`) or their set-aside proofs'
+  // reach (m_reach_queue: once it falls below 0): a step checks only the due ones. m_moved
+  // sums the relative motion's displacement bound (Approach::most) over the steps, up to
+  // X_AB = m_moved_at.
   std::vector<Queue_entry> m_bound_queue, m_reach_queue;
   std::vector<Queue_entry> m_queue_kept;  // (certify_apart's scratch)
   bool m_queue_dirty = true;     // the candidates' indices changed

@@ -94,6 +94,8 @@ constexpr double k_depth_pair_tolerance = 1e-6;
 // many corrections, to this normalised projection error. Shown by
 // BodyScenes.ABallIsTrackedAsItsCentre.
 constexpr int k_witness_corrections = 10;
+// Its first start: the nearest of a grid of this many intervals per parameter over the face.
+constexpr int k_witness_start_grid = 16;
 constexpr double k_witness_tolerance = 1e-12;
 // A ball's surface is tracked instead of its centre once the centre comes within this fraction
 // of the radius of the other body (its centre about to go in), and its centre again once that
