@@ -48,7 +48,7 @@
 #include "algorithms/distance/Penetration_depth.h"
 #include "algorithms/distance/Solid_classification.h"
 #include "algorithms/mesh/Mesh_bvh.h"
-#include "cli/Scene_run.h"
+#include "algorithms/scene/Scene_setup.h"
 #include "io/Model_reader.h"
 #include "io/Scene.h"
 #include "kernel/Error.h"
@@ -342,9 +342,9 @@ int verify(const Options& o, const std::string& path) {
   std::vector<Pair_tally> tallies(scene.pairs.size());
   const int steps = scene.step_count();
   double stepping = 0.0;
-  cli::Scene_run run(scene, cli::Scene_run_options{});
+  const std::unique_ptr<Scene_stepper> run = scene_stepper(scene);
   auto clock = std::chrono::steady_clock::now();
-  run.run([&](int step, double t, const std::vector<Pair_report>& reports) {
+  run_scene(scene, *run, [&](int step, double t, const std::vector<Pair_report>& reports) {
     stepping += std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     const bool check = step % o.every == 0 || step == steps - 1;
     for (std::size_t k = 0; k < reports.size(); ++k) {

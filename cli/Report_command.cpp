@@ -13,10 +13,10 @@
 
 #include "cli/Commands.h"
 #include "cli/Progress_bar.h"
-#include "cli/Report_plot.h"
-#include "cli/Report_rows.h"
-#include "cli/Report_writer.h"
-#include "cli/Scene_run.h"
+#include "io/Report_plot.h"
+#include "algorithms/scene/Report_rows.h"
+#include "algorithms/scene/Report_writer.h"
+#include "algorithms/scene/Scene_setup.h"
 #include "io/Model_reader.h"
 #include "io/Pair_summary.h"
 #include "io/Scene.h"
@@ -27,6 +27,10 @@
 namespace extremal::cli {
 
 namespace {
+
+using namespace report;
+using io::Pair_series;
+using io::report_plot;
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
@@ -72,7 +76,7 @@ void write_snapshot(const io::Scene& scene, const std::string& path, double t,
   io::write_snapshot_glb(path, bodies, segments, options);
 }
 
-void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
+void run_one(const io::Scene& scene, Scene_stepper& run, const Scene_outputs& out,
              const Report_options& options, bool batch, bool first) {
   std::unique_ptr<std::ofstream> file;
   std::ostream* stream = &std::cout;
@@ -99,7 +103,7 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
   Progress_bar progress(!options.quiet && !rows_on_terminal,
                         std::filesystem::path(scene.path).filename().string(), steps);
 
-  run.run([&](int step, double t, const std::vector<Pair_report>& reports) {
+  run_scene(scene, run, [&](int step, double t, const std::vector<Pair_report>& reports) {
     rows.add(t, reports);
     for (std::size_t k = 0; k < series.size(); ++k) {
       const bool farther = clearance_state(reports[k].status) == io::Clearance_state::Farther;
@@ -110,7 +114,7 @@ void run_one(const io::Scene& scene, Scene_run& run, const Scene_outputs& out,
   });
   progress.finish();
 
-  const Report_timing timing = report_timing(run.step_times_us());
+  const Report_timing timing = report_timing(run.step_times_us(), run.audit_times_us());
   const std::vector<io::Pair_summary> result = rows.finish(timing);
   if (file && !*file) throw Invalid_input(out.report + ": write failed");
   for (auto& s : series) s.finish();
@@ -149,17 +153,15 @@ int run_report(const Report_options& options) {
       if (options.relative_tolerance) scenes.back().tolerance.relative = *options.relative_tolerance;
     }
     const bool batch = scenes.size() > 1;
-    const std::vector<std::string> tags = scene_tags(options.scenes);
+    const std::vector<std::string> tags = report::scene_tags(options.scenes);
     std::vector<Scene_outputs> outputs;
-    std::vector<std::unique_ptr<Scene_run>> runs;  // set up (and so checked) before any runs
-    Scene_run_options run_options;
-    run_options.threads = options.threads;
+    std::vector<std::unique_ptr<Scene_stepper>> runs;  // set up (and so checked) before any runs
     for (std::size_t i = 0; i < scenes.size(); ++i) {
-      outputs.push_back({batch_path(options.output, tags[i], batch),
-                         batch_path(options.plot, tags[i], batch),
-                         batch_path(options.snapshot, tags[i], batch)});
+      outputs.push_back({report::batch_path(options.output, tags[i], batch),
+                         report::batch_path(options.plot, tags[i], batch),
+                         report::batch_path(options.snapshot, tags[i], batch)});
       if (!outputs[i].snapshot.empty()) snapshot_step(scenes[i], options.snapshot_time);
-      runs.push_back(std::make_unique<Scene_run>(scenes[i], run_options));
+      runs.push_back(scene_stepper(scenes[i], options.threads));
     }
     for (std::size_t i = 0; i < scenes.size(); ++i)
       run_one(scenes[i], *runs[i], outputs[i], options, batch, i == 0);

@@ -240,17 +240,20 @@ TEST(ReadingRules, AnEdgesDepthAgainstAFaceLiesInTheEdgesWedge) {
 TEST(ReadingRules, ADepthCountsOnlyThroughContact) {
   Pair_at_rest p(make_sphere_body(1.0), make_sphere_body(1.0), Rigid_pose_3(), at(1.0, 0, 0));
   Live L = p.reading_near(p.face(0), p.face(1), Vec3(1, 0, 0), Vec3(0, 0, 0));
-  L.through_contact = false;
+  L.provenance = Provenance::Unreached;
   EXPECT_TRUE(p.rejects(Reading_rule::Depth_not_reached_through_contact, L));
-  L.through_contact = true;
+  L.provenance = Provenance::Through_contact;
   EXPECT_FALSE(p.rejects(Reading_rule::Depth_not_reached_through_contact, L));
   // judge: rejected by this rule alone, the reading would hold but for it.
-  L.through_contact = false;
+  L.provenance = Provenance::Unreached;
   judge(L, false, p.context);
   EXPECT_FALSE(L.valid);
   EXPECT_EQ(static_cast<int>(L.rejected_by),
             static_cast<int>(Reading_rule::Depth_not_reached_through_contact));
-  EXPECT_TRUE(L.holds_unreached);
+  EXPECT_TRUE(holds_unreached(L));
+  // Behind an open sheet it would not hold even so: not a depth the monitor may take.
+  L.provenance = Provenance::Behind_sheet;
+  EXPECT_FALSE(holds_unreached(L));
 }
 
 TEST(ReadingRules, JudgeNamesTheFirstRuleThatRejects) {
@@ -260,7 +263,7 @@ TEST(ReadingRules, JudgeNamesTheFirstRuleThatRejects) {
   judge(L, false, p.context);
   EXPECT_FALSE(L.valid);
   EXPECT_EQ(static_cast<int>(L.rejected_by), static_cast<int>(Reading_rule::Wandering_inside));
-  EXPECT_FALSE(L.holds_unreached);
+  EXPECT_FALSE(holds_unreached(L));
 }
 
 }  // namespace

@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/Progress_bar.h"
-#include "cli/Report_plot.h"
-#include "cli/Step_times.h"
+#include "algorithms/scene/Step_times.h"
+#include "io/Report_plot.h"
 #include "support/Cli_run.h"
 #include "kernel/Motion.h"
 
@@ -541,34 +541,40 @@ void expect_sane_step_times(const nlohmann::json& times, const std::string& what
 }
 
 TEST(ReportCli, StepTimeStatisticsAreNearestRank) {
-  using cli::step_time_stats;
-  const cli::Step_time_stats five = step_time_stats({5, 1, 4, 2, 3});
+  using report::step_time_stats;
+  const report::Step_time_stats five = step_time_stats({5, 1, 4, 2, 3});
   EXPECT_EQ(five.samples, 5u);
   EXPECT_EQ(five.mean, 3.0);
   EXPECT_EQ(five.median, 3.0);  // the ceil(2.5) = 3rd smallest
   EXPECT_EQ(five.p99, 5.0);     // the ceil(4.95) = 5th
   EXPECT_EQ(five.max, 5.0);
-  const cli::Step_time_stats four = step_time_stats({4, 3, 2, 1});
+  const report::Step_time_stats four = step_time_stats({4, 3, 2, 1});
   EXPECT_EQ(four.median, 2.0);  // the lower middle one: ceil(2) = 2nd
   EXPECT_EQ(four.p99, 4.0);
   std::vector<float> hundred;
   for (int i = 100; i >= 1; --i) hundred.push_back(static_cast<float>(i));
-  const cli::Step_time_stats h = step_time_stats(hundred);
+  const report::Step_time_stats h = step_time_stats(hundred);
   EXPECT_EQ(h.median, 50.0);
   EXPECT_EQ(h.p99, 99.0);
   EXPECT_EQ(h.max, 100.0);
   EXPECT_EQ(h.mean, 50.5);
-  const cli::Step_time_stats one = step_time_stats({7});
+  const report::Step_time_stats one = step_time_stats({7});
   EXPECT_EQ(one.median, 7.0);
   EXPECT_EQ(one.p99, 7.0);
   EXPECT_EQ(one.mean, 7.0);
   EXPECT_EQ(step_time_stats({}).samples, 0u);
   // The scene's step time is the sum of its pairs' at each step.
-  const cli::Report_timing timing = cli::report_timing({{1, 2, 3}, {10, 0, 30}});
+  const report::Report_timing timing = report::report_timing({{1, 2, 3}, {10, 0, 30}}, {{0, 5, 0}, {0, 0, 7}});
   ASSERT_EQ(timing.pairs.size(), 2u);
   EXPECT_EQ(timing.pairs[1].median, 10.0);
   EXPECT_EQ(timing.scene.max, 33.0);  // steps 11, 2, 33
   EXPECT_EQ(timing.scene.median, 11.0);
+  // Audits apart: their own statistics, per pair and summed per step.
+  ASSERT_EQ(timing.audit_pairs.size(), 2u);
+  EXPECT_EQ(timing.audit_pairs[0].max, 5.0);
+  EXPECT_EQ(timing.audit_scene.max, 7.0);  // steps 0, 5, 7
+  EXPECT_EQ(timing.audit_scene.median, 5.0);
+  EXPECT_EQ(report::report_timing({{1, 2}}).audit_pairs.at(0).max, 0.0);
 }
 
 // Three spheres: B goes beyond the threshold of A and comes back, C stays near A.
@@ -883,7 +889,7 @@ TEST(ReportCli, PoseTableErrorsNameTheFileAndLine) {
 }
 
 TEST(ReportCli, PlotSeriesThinsLongRunsButKeepsADipAndTheGaps) {
-  cli::Pair_series s(1000000);
+  io::Pair_series s(1000000);
   for (int i = 0; i < 1000000; ++i) {
     const double t = i * 1e-6;
     double d = 1.0 + 0.1 * std::sin(6 * t);

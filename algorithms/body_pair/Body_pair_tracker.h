@@ -1,19 +1,16 @@
 // Tracks the extremal pair between two bodies made of many primitives (faces, B-rep edges,
 // curves, a point, mesh triangles), through contact and penetration (docs/design.md,
-// "The body-pair tracker"). A step runs named stages, each with the state it owns:
-//   - the live set: an Extremal_tracker (or a closed form, between mesh triangles) on each
-//     tracked primitive pair, stepped, its reading judged by the reading rules, handed across
-//     edges and patch sides when its point leaves its primitive, merged with another that
-//     reached the same pair;
-//   - the depth monitor: where the bodies overlap, whether the tracked pair is still the depth;
-//   - the candidate stage: the primitive pairs that may hold the minimum (a broad phase over
-//     body-frame boxes), and the certificate that those without a tracker hold nothing closer
-//     (kept proofs of restricted solves), seeding a tracker where one does;
-//   - re-seeding by the certified global solver when no tracker holds a pair, and audits.
-// After any stage that changed the live set, its new trackers are stepped. The answer is the
-// minimum over the readings that hold, with face ids and parameters, or the solver's.
-// Two bodies each a mesh or a point run none of these: a certified front between their
-// hierarchies (Mesh_front.h) is carried across steps instead (internal/Mesh_pair_stage.h).
+// "Architecture"). A step goes through one pose gate (a pair whose relative pose is bit for
+// bit the one its answer was made at keeps that answer; a pair whose boxes lie beyond the
+// threshold reads `farther`), then one engine answers it:
+//   - the NURBS stages (internal/Stage_engine.h): trackers on primitive pairs, the depth
+//     monitor, the candidate stage that certifies that no other pair is closer, the certified
+//     global solver where no tracker holds;
+//   - two bodies each a mesh or a point: a certified front between their hierarchies carried
+//     across steps (internal/Mesh_pair_stage.h);
+//   - a ball against a closed body, a point or a ball: its centre's stages, the answer moved
+//     out by the radius (internal/Ball_pair.h);
+// and one mapping makes the report row and its status from the engine's answer.
 #pragma once
 
 #include <memory>
@@ -49,6 +46,9 @@ class Body_pair_tracker {
 
   // The work done since the start (not part of the reading).
   const Pair_statistics& statistics() const;
+  // The wall time the last step spent in audits (Body_pair_options::audit_every), in
+  // microseconds: timed apart so that a scene's step times are the tracking's own.
+  double audit_time_us() const;
 
   const std::vector<Feature>& features_a() const;
   const std::vector<Feature>& features_b() const;
@@ -56,8 +56,8 @@ class Body_pair_tracker {
   const Tracking_model& model_b() const;
 
  private:
-  struct Stages;
-  std::unique_ptr<Stages> m;
+  struct Impl;
+  std::unique_ptr<Impl> m;
 };
 
 // The features of a body: its faces, then its curves; a point body is its origin.

@@ -117,12 +117,31 @@ void Depth_monitor::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA
   params = chosen;
 }
 
+template <class Result>
+void Depth_monitor::keep_solved(const Result& r, double sign) {
+  Solved& s = m_solved;
+  s.step = m_context.steps;
+  s.distance = sign * r.distance;
+  s.lower_bound = -HUGE_VAL;
+  s.point_a = r.point_a;
+  s.point_b = r.point_b;
+  s.normal = sign * r.normal;
+  s.pa = r.element_a >= 0 ? m_context.model_a->primitive_of(r.kind_a, r.element_a) : -1;
+  s.pb = r.element_b >= 0 ? m_context.model_b->primitive_of(r.kind_b, r.element_b) : -1;
+  s.params.setZero();
+  if (s.pa >= 0 && s.pb >= 0) {
+    const Primitive& A = m_context.model_a->primitives()[s.pa];
+    params_from_global(A, r.params_a, s.params.data());
+    params_from_global(m_context.model_b->primitives()[s.pb], r.params_b,
+                       s.params.data() + A.feature.dimension());
+  }
+}
+
 bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X_WA,
                                      const Rigid_pose_3& X_WB, bool local_seeds_failed,
                                      double deeper, const Overlap_test* known) {
-  m_context.keep_solved(g.distance, g.point_a, g.point_b, g.normal, g.kind_a, g.element_a, g.params_a,
-              g.kind_b, g.element_b, g.params_b);
-  m_context.solved.lower_bound = g.lower_bound;
+  keep_solved(g);
+  m_solved.lower_bound = g.lower_bound;
   const Distance_hierarchy& HA = m_context.model_a->hierarchy();
   const Distance_hierarchy& HB = m_context.model_b->hierarchy();
   const Overlap_test overlap =
@@ -138,16 +157,15 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
     // One inside the other: at least as deep as the gap between the surfaces (the answer
     // should no depth be found), exactly so for a point, whose depth is its distance from the
     // surface.
-    m_context.keep_solved(-g.distance, g.point_a, g.point_b, -g.normal, g.kind_a, g.element_a, g.params_a,
-                g.kind_b, g.element_b, g.params_b);
+    keep_solved(g, -1.0);
     if (m_context.model_a->body().is_point || m_context.model_b->body().is_point) {
       const double tol = std::max(m_context.options.global.absolute_tolerance,
                                   m_context.options.global.relative_tolerance * g.distance);
       // (Any witness shallower than the tracked depth shows that depth stale, certified or
       // not: it is seeded. Test Contact.APointRisingInACylinderReadsItsDepth.)
-      if (!(-g.distance > deeper + tol) || m_context.solved.pa < 0 || m_context.solved.pb < 0)
+      if (!(-g.distance > deeper + tol) || m_solved.pa < 0 || m_solved.pb < 0)
         return false;
-      m_seeding.add_inside(m_context.solved.pa, m_context.solved.pb, m_context.solved.params, X_WA, X_WB);
+      m_seeding.add_inside(m_solved.pa, m_solved.pb, m_solved.params, X_WA, X_WB);
       return true;
     }
   }
@@ -184,8 +202,7 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
   // distance --signed` gives it), not the meeting surfaces' zero ('contact' for a ball deep in
   // a part's plate). Against a tracked depth the search is coarse, and the answer stays.
   if (!against)
-    m_context.keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
-                h.kind_b, h.element_b, h.params_b);
+    keep_solved(h);
   int pa = -1, pb = -1;
   Vec4 params = Vec4::Zero();
   if (!depth_pair(h, X_WA, X_WB, pa, pb, params)) {
@@ -222,15 +239,14 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
     const bool all_in = (a_in_b || !test_a) && (b_in_a || !test_b);
     if (against && !missed ? !(a_in_b || b_in_a) : !all_in) return false;
   }
-  m_context.keep_solved(h.distance, h.point_a, h.point_b, h.normal, h.kind_a, h.element_a, h.params_a,
-              h.kind_b, h.element_b, h.params_b);
+  keep_solved(h);
   // A converged tracker on the same faces holds another local pair: the hulls' pair gets a
   // tracker beside it, not that one moved there (a ball in the cornetta's plate: its local
   // -0.38 was lost to a seed that never converged, and the rows read the hulls' -0.81; a
   // cylinder's side tumbling on a box: its far rim is the deeper).
   if (missed && m_live.tracks_converged(pa, pb)) {
-    m_live[m_live.add(pa, pb, params)].through_contact = true;
-    ++m_context.stats.seeds;
+    m_live[m_live.add(pa, pb, params)].provenance = Provenance::Through_contact;
+    ++m_seeds;
   } else {
     m_seeding.add_inside(pa, pb, params, X_WA, X_WB);
   }
@@ -253,9 +269,9 @@ bool Depth_monitor::depth_pair(const Signed_distance_result& h, const Rigid_pose
   const Rigid_pose_3 X_WB_apart(X_WB.rotation(), X_WB.translation() + shift * h.normal);
   Distance_request request = m_context.options.global;
   request.relative_tolerance = std::max(request.relative_tolerance, k_depth_pair_tolerance);
-  ++m_context.stats.audits;
+  m_solver.count();
   const Distance_result g = extremal_distance(m_context.model_a->hierarchy(), X_WA, m_context.model_b->hierarchy(),
-                                              X_WB_apart, request, m_context.workspace);
+                                              X_WB_apart, request, m_solver.workspace());
   if ((g.status != Distance_status::Converged && g.status != Distance_status::Touching) ||
       g.element_a < 0 || g.element_b < 0)
     return false;
@@ -274,7 +290,7 @@ bool Depth_monitor::shallower_pair(double best) {
   bool shallower_pair = false;
   const double tol = m_context.options.contact_tolerance;
   for (Live& L : m_live.slots()) {
-    if (!L.alive || !(L.valid || L.holds_unreached)) continue;
+    if (!L.alive || !(L.valid || holds_unreached(L))) continue;
     const bool shallower =
         L.result.distance < -tol && L.result.distance > best + m_context.depth_tolerance(best);
     if (shallower && !L.was_shallower) shallower_pair = true;
@@ -372,7 +388,7 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   if (!(best < m_checked - step) && !moved && !past_sheet && !force && !witness_out) return false;
   m_checked = best;
   m_checked_at = c.relative;
-  const Distance_result g = m_context.global_solve(X_WA, X_WB);
+  const Distance_result g = m_solver.global(X_WA, X_WB);
   const Overlap_test overlap = overlap_of(g, c.model_a->hierarchy(), X_WA, c.kind.closed(0),
                                           c.model_b->hierarchy(), X_WB, c.kind.closed(1));
   // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
@@ -396,13 +412,13 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   // convex, or one of its witnesses inside the other body: the hulls' depth bounds the
   // translation distance), trackers deeper than it go and its pair is tracked (seed_overlap).
   if (!seed_overlap(g, X_WA, X_WB, true, best, &overlap)) return false;
-  const double d = m_context.solved.distance;
+  const double d = m_solved.distance;
   m_checked = d;
   drop_inside(d - c.depth_tolerance(d));
   return true;
 }
 
-void Depth_monitor::note_report(const Pair_report& r, const Rigid_pose_3& X_WA) {
+void Depth_monitor::note_answer(const Pair_answer& r, const Rigid_pose_3& X_WA) {
   const Pair_context& c = m_context;
   if (c.kind.closed_against_open() && r.distance >= -c.options.contact_tolerance &&
       r.normal.norm() > 0.5)

@@ -190,18 +190,19 @@ void Kept_proof_stage::requeue_all(bool all_due) {
   m_queue_dirty = m_queue_all_due = false;
 }
 
-bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                      double best) {
+Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
+                                                  const Rigid_pose_3& X_WB, double best) {
   mark_tracked();
   bool meet = false;
   // What the rows may miss (the error budget), and the restricted solves' tolerance: the
   // seeding request's, at most a quarter of the budget so that every cutoff has room above
   // `need` (k_seeding_slack).
   const Body_pair_options& o = m_context.options;
-  const double budget = o.tolerance.at(best);
+  const Error_budget& b = m_context.budget;
+  const double budget = b.at(best);
   Distance_request request = o.seeding;
-  request.absolute_tolerance = std::min(request.absolute_tolerance, o.tolerance.absolute / k_seeding_slack);
-  request.relative_tolerance = std::min(request.relative_tolerance, o.tolerance.relative / k_seeding_slack);
+  request.absolute_tolerance = std::min(request.absolute_tolerance, b.absolute / k_seeding_slack);
+  request.relative_tolerance = std::min(request.relative_tolerance, b.relative / k_seeding_slack);
   const double tol = std::max(request.absolute_tolerance, request.relative_tolerance * best);
   const double need_apart = best - budget;  // a pair certified at or above this holds nothing closer
   // The certified lower bound on the bodies' distance this step: the least of every candidate
@@ -251,12 +252,12 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     if (held) {
       const double gap =
           std::max(k_seeding_slack * tol,
-                   std::min(o.own_basin_gap * C.tracked_distance, o.tolerance.at(C.tracked_distance)));
+                   std::min(o.own_basin_gap * C.tracked_distance, b.at(C.tracked_distance)));
       need = std::min(need_apart, C.tracked_distance - gap);
       ceiling = C.tracked_distance - k_watch_ceiling * gap;
     }
     auto below_ceiling = [&](double cutoff) { return std::max(need + tol, std::min(cutoff, ceiling)); };
-    ++m_context.stats.vacated_checks;
+    ++m_stats.vacated_checks;
     // The bound carried from an earlier step, less how much closer the pair can have come;
     // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
     // side shared with a face whose pair is tracked) stay so while the relative motion is
@@ -270,7 +271,7 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       const double now = bounds_now(C, need);
       if (now >= need) {
         clear = true;
-        ++m_context.stats.vacated_bound_checks;
+        ++m_stats.vacated_bound_checks;
         C.lower = lower_now = now;
         C.at = m_context.relative;
       }
@@ -284,7 +285,7 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       std::array<double, 2> reach;
       if (!holds && proofs_hold(C, reach)) {
         holds = true;
-        ++m_context.stats.vacated_proof_checks;
+        ++m_stats.vacated_proof_checks;
         C.reach = reach;
         C.reach_at = m_context.relative;
       }
@@ -302,7 +303,7 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     if (!held && m_context.single_basin_locatable(pa, pb, best)) {
       Vec4 params;
       if (const std::optional<double> located = locate_single_basin(C, pa, pb, params)) {
-        ++m_context.stats.located;
+        ++m_stats.located;
         // (Off the primitives: the pair is located again at its next check, from the boxes.)
         forget_proofs(C, *located < HUGE_VAL ? *located : boxes);
         if (*located >= need) return *located;
@@ -313,9 +314,9 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
             m_context.model_b->contains(pb, params.data() + na)) {
           if (*located <= m_context.options.contact_tolerance) meet = true;
           const int slot = m_live.add(pa, pb, params);
-          m_live[slot].seeded_apart = true;
-          ++m_context.stats.seeds;
-          ++m_context.stats.vacated_seeds;
+          mark_seeded_apart(m_live[slot]);
+          ++m_stats.seeds;
+          ++m_stats.vacated_seeds;
           C.tracked = true;
           return *located;
         }
@@ -325,8 +326,8 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     // The certified solver on the pair, cut off some steps' motion above `need`: it seeds the
     // pair when it holds something closer than the tracked minimum, and otherwise leaves a
     // lower bound that stays clear of `need` for the next steps.
-    ++m_context.stats.vacated_solves;
-    if (clear) ++m_context.stats.vacated_reach_solves;
+    ++m_stats.vacated_solves;
+    if (clear) ++m_stats.vacated_reach_solves;
     const double step_motion = approach_bound(A.box, B.box, m_context.previous_relative, m_context.relative).closer;
     // At most the broad phase's margin: a cutoff far above the minimum would have the solver
     // settle every pair below it. When one step's motion exceeds that margin (low rates) the
@@ -375,10 +376,10 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       Distance_result result =
           partial ? internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
                                                         B.global_element, m_restarts, r, p,
-                                                        m_context.workspace)
+                                                        m_solver.workspace())
                   : internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                                        B.global_element, r, p, m_context.workspace);
-      m_context.stats.vacated_nodes += result.nodes_created;
+                                                        B.global_element, r, p, m_solver.workspace());
+      m_stats.vacated_nodes += result.nodes_created;
       return result;
     };
     // (Not for a tracked pair's watch: two tracked pairs on one crease would each leave the
@@ -411,7 +412,7 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
             step_motion >= cap ? k_seeding_slack * tol : std::max(k_seeding_slack * tol, k_crease_fraction * cap);
         first.cutoff = below_ceiling(need + crease_slack);
         first_proof.carried_min_reach = crease_slack;
-        ++m_context.stats.vacated_crease_solves;
+        ++m_stats.vacated_crease_solves;
       } else {
         first.cutoff =
             below_ceiling(need + std::max(k_seeding_slack * tol, std::min(slack, k_proving_steps * step_motion)));
@@ -439,12 +440,12 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
       carried_a = carried_b = 0u;
       kept = false;
     }
-    if (kept) ++m_context.stats.vacated_partial_solves;
+    if (kept) ++m_stats.vacated_partial_solves;
     // The watch's convex region about the tracked point, for the next steps' checks (a partial
     // solve that did not reach the region keeps the one before: its box is re-certified at
     // every use).
     if (proof.stationary) {
-      if (const std::optional<Parameter_box> region = stationary_region(m_context.workspace)) {
+      if (const std::optional<Parameter_box> region = stationary_region(m_solver.workspace())) {
         C.region = *region;
         C.has_region = true;
         grow_region(C, A, B);
@@ -478,9 +479,9 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
     params_from_global(B, g.params_b, params.data() + A.feature.dimension());
     // (A tracked pair's tracker moves to its closer basin.)
     const int slot = C.tracked ? m_seeding.place(pa, pb, params, X_WA, X_WB) : m_live.add(pa, pb, params);
-    m_live[slot].seeded_apart = true;
-    ++m_context.stats.seeds;
-    ++m_context.stats.vacated_seeds;
+    mark_seeded_apart(m_live[slot]);
+    ++m_stats.seeds;
+    ++m_stats.vacated_seeds;
     C.tracked = true;
     return lower;
   };
@@ -560,10 +561,8 @@ bool Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_
   }
   if (!m_bound_queue.empty()) certified = std::min(certified, left(m_bound_queue.front()));
   push_kept(m_bound_queue);
-  m_context.stats.vacated_queued += static_cast<long>(m_candidates.size()) - checks;
-  m_context.certified_lower = certified;
-  m_context.certified_at = m_context.steps;
-  return meet;
+  m_stats.vacated_queued += static_cast<long>(m_candidates.size()) - checks;
+  return {meet, certified};
 }
 
 const Rigid_pose_3& Kept_proof_stage::Motions::b(int k) {
@@ -624,7 +623,7 @@ void Kept_proof_stage::grow_region(Candidate& C, const Primitive& A, const Primi
       wider.hi[i] = std::min(f.upper(j), x[i] + half);
     }
     if (!convex_region_lower(ha, *m_context.X_WA, hb, *m_context.X_WB, wider, x,
-                             m_context.workspace))
+                             m_solver.workspace()))
       return;
     C.region = wider;
   }
@@ -705,7 +704,7 @@ double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {
     if (const std::optional<double> r =
             convex_region_lower(m_context.model_a->hierarchy(), *m_context.X_WA,
                                 m_context.model_b->hierarchy(), *m_context.X_WB, C.region, x,
-                                m_context.workspace))
+                                m_solver.workspace()))
       region = *r;
     return region;
   };
@@ -790,8 +789,8 @@ void Kept_proof_stage::release_solves(Candidate& C) {
 }
 
 void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
-  const std::vector<Gradient_proof>& proofs = m_context.workspace.gradient_proofs();
-  const std::vector<Bound_proof>& bounds = m_context.workspace.bound_proofs();
+  const std::vector<Gradient_proof>& proofs = m_solver.workspace().gradient_proofs();
+  const std::vector<Bound_proof>& bounds = m_solver.workspace().bound_proofs();
   // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
   // below, which keeps the order within each range.
   if (!partial) {

@@ -141,11 +141,12 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   m_last_relative = relative;
   m_broad_reach = reach;
   m_queue_dirty = true;
-  ++m_context.stats.broad_phases;
+  ++m_stats.broad_phases;
 }
 
-Kept_proof_stage::Kept_proof_stage(Pair_context& context, Live_set& live, Pair_seeding& seeding)
-    : m_context(context), m_live(live), m_seeding(seeding),
+Kept_proof_stage::Kept_proof_stage(Pair_context& context, Pair_solver& solver, Live_set& live,
+                                   Pair_seeding& seeding)
+    : m_context(context), m_solver(solver), m_live(live), m_seeding(seeding),
       m_scratch(std::make_unique<Broad_scratch>()) {}
 
 Kept_proof_stage::~Kept_proof_stage() = default;

@@ -54,10 +54,8 @@ int Live_set::add(int pa, int pb, const Vec4& params) {
   L.alive = true;
   L.valid = false;
   L.stepped = -1;
-  L.through_contact = false;
-  L.holds_unreached = L.was_shallower = false;
-  L.seeded_apart = false;
-  L.behind_sheet = false;
+  L.provenance = Provenance::Unreached;
+  L.was_shallower = false;
   L.rejected_by = Reading_rule::None;
   L.closed_form = closed_form_pair(A, B);
   if (!L.closed_form)
@@ -87,8 +85,9 @@ int Live_set::move(int pa, int pb, const Vec4& params) {
   Live& L = m_live[moved];
   L.tracker.reset(params);
   L.stepped = -1;
-  L.seeded_apart = L.behind_sheet = false;
-  L.holds_unreached = L.was_shallower = false;
+  // (A tracker that came through contact keeps it in another basin of its pair.)
+  if (L.provenance != Provenance::Through_contact) L.provenance = Provenance::Unreached;
+  L.was_shallower = false;
   ++m_generation;
   return moved;
 }
@@ -197,9 +196,9 @@ void Live_set::step_live(int k) {
   const Pair_context& c = m_context;
   L.result = L.tracker.step(c.t, *c.X_WA, *c.V_A, *c.X_WB, *c.V_B, c.dt);
   L.regime = regime_of(L.result.distance, c.options.contact_tolerance, L.result.normal_form);
-  m_context.stats.corrections += L.result.corrections;
+  m_stats.corrections += L.result.corrections;
   const int cap = c.options.tracker.corrections;
-  if (cap > 0 && L.result.corrections == cap) ++m_context.stats.capped_corrections;
+  if (cap > 0 && L.result.corrections == cap) ++m_stats.capped_corrections;
   judge(L, first, m_context);
 }
 
@@ -338,9 +337,9 @@ bool Live_set::transition(int k) {
     L.pa = npa;
     L.pb = npb;
     L.tracker = Extremal_tracker(fa, fb, params, m_context.options.tracker);
-    L.through_contact = false;
-    L.holds_unreached = L.was_shallower = false;
-    ++m_context.stats.transitions;
+    if (L.provenance != Provenance::Behind_sheet) L.provenance = Provenance::Unreached;
+    L.was_shallower = false;
+    ++m_stats.transitions;
     step_live(k);
     return true;
   }
@@ -369,11 +368,11 @@ void Live_set::merge_duplicates() {
           continue;
         if (!x.valid && y.valid) {  // keep the one that holds (a wandering seed does not)
           kill(static_cast<int>(i));
-          ++m_context.stats.merges;
+          ++m_stats.merges;
           break;
         }
         kill(static_cast<int>(j));
-        ++m_context.stats.merges;
+        ++m_stats.merges;
       }
     }
   }

@@ -23,11 +23,22 @@ bool Mesh_pair_stage::takes(const Tracking_model& a, const Tracking_model& b) {
   return mesh_or_point(a) && mesh_or_point(b) && (a.mesh() || b.mesh());
 }
 
-Mesh_pair_stage::Mesh_pair_stage(const Tracking_model& a, const Tracking_model& b,
+Mesh_pair_stage::Mesh_pair_stage(std::shared_ptr<const Tracking_model> a,
+                                 std::shared_ptr<const Tracking_model> b,
                                  const Body_pair_options& options)
-    : m_a(a), m_b(b), m_options(options), m_swapped(!a.mesh()),
-      m_mesh(a.mesh() ? *a.mesh() : *b.mesh()), m_other(a.mesh() ? b.mesh() : nullptr),
-      m_front(m_mesh, m_other) {}
+    : m_models{std::move(a), std::move(b)}, m_a(*m_models[0]), m_b(*m_models[1]),
+      m_options(options), m_swapped(!m_a.mesh()), m_mesh(m_a.mesh() ? *m_a.mesh() : *m_b.mesh()),
+      m_other(m_a.mesh() ? m_b.mesh() : nullptr), m_front(m_mesh, m_other) {}
+
+void Mesh_pair_stage::add_statistics(Pair_statistics& s) const {
+  const Mesh_front_statistics& f = m_front.statistics();
+  s.front_opened += f.opened;
+  s.front_box_bounds += f.box_bounds;
+  s.front_triangle_pairs += f.triangle_pairs;
+  s.front_traversals += f.traversals;
+  s.trackers = 1;
+  s.candidates = static_cast<int>(m_front.size());
+}
 
 bool Mesh_pair_stage::nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) const {
   if (!m_other) {  // the point, inside the closed mesh by its closest feature's pseudo-normal
@@ -47,8 +58,8 @@ bool Mesh_pair_stage::nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) co
   return m_other->inside(X_MO.inverse().apply_point(m_mesh.corners(0)[0]));
 }
 
-void Mesh_pair_stage::read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                 Pair_report& r) {
+void Mesh_pair_stage::read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  Pair_answer& r = m_answer;
   const Signed_distance_result h =
       hull_signed_distance(m_a.hierarchy(), X_WA, m_b.hierarchy(), X_WB, m_options.overlap);
   if (!(h.distance < -m_options.contact_tolerance)) return;  // the hulls barely meet: contact
@@ -65,8 +76,10 @@ void Mesh_pair_stage::read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X
   if (m_b.mesh()) r.params[k++] = h.params_b[0], r.params[k++] = h.params_b[1];
 }
 
-void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Pair_report& r,
-                           Pair_statistics& stats) {
+const Pair_answer& Mesh_pair_stage::step(const Pair_step& step) {
+  const Rigid_pose_3& X_WA = step.X_WA;
+  const Rigid_pose_3& X_WB = step.X_WB;
+  Pair_answer& r = m_answer;
   const Rigid_pose_3& X_WM = m_swapped ? X_WB : X_WA;
   const Rigid_pose_3& X_WO = m_swapped ? X_WA : X_WB;
   const Rigid_pose_3 X_MO = X_WM.inverse() * X_WO;
@@ -81,7 +94,7 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   m_started = true;
   m_last = X_MO;
   const double last = std::abs(m_front.closest().distance);
-  const double tolerance = std::min(k_front_relative_tolerance * last, m_options.tolerance.at(last));
+  const double tolerance = std::min(k_front_relative_tolerance * last, step.budget.at(last));
   const Mesh_closest& c = m_front.update(X_MO, closer, std::isfinite(tolerance) ? tolerance : 0.0);
 
   // The surfaces' closest pair, in the world; A's witness first.
@@ -95,7 +108,8 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   r.params << c.uv_a[0], c.uv_a[1], m_other ? c.uv_b[0] : 0.0, m_other ? c.uv_b[1] : 0.0;
   r.edge_a = r.edge_b = -1;
   r.degeneracy = Degeneracy::None;
-  r.solved = false;
+  r.shape = Reading_shape::Interior;
+  r.source = Reading_source::Tracked;
   r.rejected_by = Reading_rule::None;
 
   const double tol = m_options.contact_tolerance;
@@ -103,23 +117,10 @@ void Mesh_pair_stage::step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, P
   // point_b - point_a = distance * normal, inside as apart.
   r.normal = r.distance != 0.0 ? Vec3((r.point_b - r.point_a) / r.distance) : Vec3::Zero();
   if (m_other && m_mesh.closed() && m_other->closed() && (!(c.distance > tol) || nested(X_MO, c)))
-    read_depth(X_WA, X_WB, r);
-  r.status = r.distance < -tol ? Pair_status::Penetrating
-             : r.distance <= tol ? Pair_status::Contact
-                                 : Pair_status::Tracking;
-  r.lower_bound.reset();
-  if (r.status == Pair_status::Tracking) {
-    r.lower_bound = std::min(c.lower_bound, r.distance);
-    if (!(*r.lower_bound >= certified_floor(r.distance, m_options.tolerance)))
-      r.status = Pair_status::Uncertified;
-  }
-  const Mesh_front_statistics& f = m_front.statistics();
-  stats.trackers = 1;
-  stats.candidates = static_cast<int>(m_front.size());
-  stats.front_opened = f.opened;
-  stats.front_box_bounds = f.box_bounds;
-  stats.front_triangle_pairs = f.triangle_pairs;
-  stats.front_traversals = f.traversals;
+    read_depth(X_WA, X_WB);
+  // Apart: the front's certified bound (the least decayed key of its entries).
+  r.lower_bound = c.lower_bound;
+  return r;
 }
 
 }  // namespace extremal::internal

@@ -9,9 +9,6 @@
 
 namespace extremal {
 
-// The features of a body: its faces, then its curves; a point body is its origin.
-std::vector<Feature> features_of(const Body& body);
-
 namespace internal {
 
 const char* to_string(Body_kind k) {
@@ -46,13 +43,22 @@ Pair_kind Pair_kind::of(const Tracking_model& A, const Tracking_model& B) {
   return k;
 }
 
+namespace {
+
+// The options with the trackers' sign policy of the pair's kind.
+Body_pair_options signed_options(const Body_pair_options& o, const Pair_kind& kind) {
+  Body_pair_options out = o;
+  out.tracker.sign_from_b = kind.sign == Sign_policy::Normal_of_closed_b;
+  return out;
+}
+
+}  // namespace
+
 Pair_context::Pair_context(std::shared_ptr<const Tracking_model> a,
                            std::shared_ptr<const Tracking_model> b, const Body_pair_options& o)
-    : model_a(std::move(a)), model_b(std::move(b)), options(o),
-      kind(Pair_kind::of(*model_a, *model_b)), features_a(features_of(model_a->body())),
-      features_b(features_of(model_b->body())) {
-  options.tracker.sign_from_b = kind.sign == Sign_policy::Normal_of_closed_b;
-}
+    : model_a(std::move(a)), model_b(std::move(b)),
+      options(signed_options(o, Pair_kind::of(*model_a, *model_b))),
+      kind(Pair_kind::of(*model_a, *model_b)), budget(o.tolerance) {}
 
 double Pair_context::length() const {
   return std::max(box_diagonal(model_a->box()), box_diagonal(model_b->box()));
@@ -63,37 +69,6 @@ double Pair_context::reach_margin() const {
   // (A point's box has no size: the other body's sets the margin.)
   const double a = box_diagonal(model_a->box()), b = box_diagonal(model_b->box());
   return k_default_broad_margin * (a > 0.0 && b > 0.0 ? std::min(a, b) : std::max(a, b));
-}
-
-Distance_result Pair_context::global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
-  ++stats.audits;
-  Distance_request request = options.global;
-  request.absolute_tolerance = std::min(request.absolute_tolerance, options.tolerance.absolute);
-  request.relative_tolerance = std::min(request.relative_tolerance, options.tolerance.relative);
-  return extremal_distance(model_a->hierarchy(), X_WA, model_b->hierarchy(), X_WB, request,
-                           workspace);
-}
-
-void Pair_context::keep_solved(double distance, const Vec3& point_a, const Vec3& point_b,
-                                    const Vec3& normal, Element_kind kind_a, int element_a,
-                                    const std::array<double, 2>& params_a, Element_kind kind_b,
-                                    int element_b, const std::array<double, 2>& params_b) {
-  Solved& s = solved;
-  s.step = steps;
-  s.distance = distance;
-  s.lower_bound = -HUGE_VAL;
-  s.point_a = point_a;
-  s.point_b = point_b;
-  s.normal = normal;
-  s.pa = element_a >= 0 ? model_a->primitive_of(kind_a, element_a) : -1;
-  s.pb = element_b >= 0 ? model_b->primitive_of(kind_b, element_b) : -1;
-  s.params.setZero();
-  if (s.pa >= 0 && s.pb >= 0) {
-    const Primitive& A = model_a->primitives()[s.pa];
-    params_from_global(A, params_a, s.params.data());
-    params_from_global(model_b->primitives()[s.pb], params_b,
-                       s.params.data() + A.feature.dimension());
-  }
 }
 
 bool Pair_context::convex() {
@@ -110,7 +85,7 @@ bool Pair_context::convex_body(int side) {
 
 bool Pair_context::flat_single_basin(int pa, int pb, double d) {
   const double fa = primitive(0, pa).flatness, fb = primitive(1, pb).flatness;
-  const double budget = k_flat_budget * options.tolerance.at(d);
+  const double budget = k_flat_budget * this->budget.at(d);
   if (fa < HUGE_VAL && fb < HUGE_VAL) return fa + fb <= budget;
   if (fa < HUGE_VAL) return fa <= budget && convex_body(1);
   if (fb < HUGE_VAL) return fb <= budget && convex_body(0);

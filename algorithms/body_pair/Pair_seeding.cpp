@@ -110,7 +110,7 @@ double Pair_seeding::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   if (A.global_element >= 0 && B.global_element >= 0) {
     const Distance_result g = extremal_distance_between(
         m_context.model_a->hierarchy(), X_WA, A.global_element, m_context.model_b->hierarchy(), X_WB,
-        B.global_element, m_context.options.seeding, m_context.workspace);
+        B.global_element, m_context.options.seeding, m_solver.workspace());
     if (g.is_certified()) lower = g.lower_bound;
     if (g.element_a < 0 || g.element_b < 0) return lower;  // nothing of the pair on the bodies
     params_from_global(A, g.params_a, params.data());
@@ -120,7 +120,7 @@ double Pair_seeding::seed_pair(int pa, int pb, const Rigid_pose_3& X_WA,
   }
   prefer_central(pa, pb, X_WA, X_WB, params);
   m_live.add(pa, pb, params);
-  ++m_context.stats.seeds;
+  ++m_seeds;
   return lower;
 }
 
@@ -137,7 +137,10 @@ bool Pair_seeding::seed_from(const Distance_result& g, const Rigid_pose_3& X_WA,
   params_from_global(A, g.params_a, params.data());
   params_from_global(m_context.model_b->primitives()[pb], g.params_b, params.data() + A.feature.dimension());
   prefer_central(pa, pb, X_WA, X_WB, params);
-  m_live[place(pa, pb, params, X_WA, X_WB)].seeded_apart = g.distance > m_context.options.contact_tolerance;
+  if (g.distance > m_context.options.contact_tolerance)
+    mark_seeded_apart(m_live[place(pa, pb, params, X_WA, X_WB)]);
+  else
+    place(pa, pb, params, X_WA, X_WB);
   return true;
 }
 
@@ -152,8 +155,8 @@ int Pair_seeding::place(int pa, int pb, const Vec4& params, const Rigid_pose_3& 
 
 void Pair_seeding::add_inside(int pa, int pb, const Vec4& params, const Rigid_pose_3& X_WA,
                               const Rigid_pose_3& X_WB) {
-  m_live[place(pa, pb, params, X_WA, X_WB)].through_contact = true;  // the depth's side
-  ++m_context.stats.seeds;
+  m_live[place(pa, pb, params, X_WA, X_WB)].provenance = Provenance::Through_contact;  // (its side)
+  ++m_seeds;
 }
 
 }  // namespace extremal::internal

@@ -273,7 +273,7 @@ bool edge_outside_wedge(const Reading& r) {
 // A depth counts only for a pair that went inside through contact (a face turned away from the
 // other body also reads d against its outward normal with the bodies apart).
 bool depth_not_reached_through_contact(const Reading& r) {
-  return inside(r) && !r.slot.through_contact;
+  return inside(r) && r.slot.provenance != Provenance::Through_contact;
 }
 
 }  // namespace
@@ -304,25 +304,28 @@ void judge(Live& L, bool first, Pair_context& context) {
   // Behind an open sheet: a tracker seeded apart whose first reading is inside (the sheet's
   // normal points away from the other body) did not come through contact, and stays so until
   // it reads the pair in front (test Contact.AnEllipsoidUnderAPlaneIsApart).
-  if (d > 0.0)
-    L.behind_sheet = false;
-  else if (first && L.seeded_apart && is_inside(L.regime) && !context.kind.both_closed())
-    L.behind_sheet = true;
+  Provenance& p = L.provenance;
+  if (d > 0.0 && p == Provenance::Behind_sheet)
+    p = Provenance::Unreached;
+  else if (first && p == Provenance::Seeded_apart && is_inside(L.regime) &&
+           !context.kind.both_closed())
+    p = Provenance::Behind_sheet;
+  if (p == Provenance::Seeded_apart) p = Provenance::Unreached;  // (read now)
   Reading_rule rejected = Reading_rule::None;
   std::size_t next = 0;
   for (; next < k_before_contact_rules && rejected == Reading_rule::None; ++next)
     if (k_reading_rules[next].rejects(reading)) rejected = k_reading_rules[next].rule;
   // Through contact: a normal-form reading that holds, in front of any sheet; apart, no longer.
-  if (L.result.normal_form && !L.behind_sheet && rejected == Reading_rule::None)
-    L.through_contact = true;
-  else if (d > 0.0)
-    L.through_contact = false;
+  if (L.result.normal_form && p != Provenance::Behind_sheet && rejected == Reading_rule::None)
+    p = Provenance::Through_contact;
+  else if (d > 0.0 && p == Provenance::Through_contact)
+    p = Provenance::Unreached;
   for (next = k_before_contact_rules; next < k_last_rule && rejected == Reading_rule::None; ++next)
     if (k_reading_rules[next].rejects(reading)) rejected = k_reading_rules[next].rule;
-  const bool unreached = k_reading_rules[k_last_rule].rejects(reading);
-  // Would hold but for not having come through contact (read by the depth monitor).
-  L.holds_unreached = unreached && rejected == Reading_rule::None && !L.behind_sheet;
-  if (rejected == Reading_rule::None && unreached) rejected = k_reading_rules[k_last_rule].rule;
+  // Would hold but for not having come through contact: rejected by the last rule alone
+  // (holds_unreached, read by the depth monitor).
+  if (rejected == Reading_rule::None && k_reading_rules[k_last_rule].rejects(reading))
+    rejected = k_reading_rules[k_last_rule].rule;
   L.rejected_by = rejected;
   L.valid = rejected == Reading_rule::None;
 }

@@ -1,5 +1,5 @@
-// Scene reports as `extremal report` makes them, through the command's own code (cli/Scene_run,
-// cli/Report_rows, cli/Report_writer): extremal.report's JSON, and the three halves of
+// Scene reports as `extremal report` makes them, through the same code (the scene runner and
+// its report: algorithms/scene): extremal.report's JSON, and the three halves of
 // extremal.batch: a scene read and checked on the client (an outline, the geometry dropped),
 // its pairs run on a worker (their rows as arrays), and the report written on the client.
 #include <cstdint>
@@ -16,9 +16,9 @@
 #include <pybind11/stl.h>
 
 #include "Convert.h"
-#include "cli/Report_rows.h"
-#include "cli/Report_writer.h"
-#include "cli/Scene_run.h"
+#include "algorithms/scene/Report_rows.h"
+#include "algorithms/scene/Report_writer.h"
+#include "algorithms/scene/Scene_setup.h"
 
 namespace extremal::python {
 
@@ -54,14 +54,14 @@ std::string report_json(const std::string& path, int threads, int every) {
   if (every < 1) throw Invalid_input("every: must be at least 1, got " + std::to_string(every));
   py::gil_scoped_release release;
   const io::Scene scene = io::read_scene(path, io::load_bodies);
-  cli::Scene_run_options options;
-  options.threads = threads;
-  cli::Scene_run run(scene, options);
+  const std::unique_ptr<Scene_stepper> run = scene_stepper(scene, threads);
   std::ostringstream out;
-  const std::unique_ptr<cli::Report_writer> writer = cli::make_json_writer(out, scene);
-  cli::Report_rows rows(scene, *writer, every);
-  run.run([&](int, double t, const std::vector<Pair_report>& reports) { rows.add(t, reports); });
-  rows.finish(cli::report_timing(run.step_times_us()));
+  const std::unique_ptr<report::Report_writer> writer = report::make_json_writer(out, scene);
+  report::Report_rows rows(scene, *writer, every);
+  run_scene(scene, *run, [&](int, double t, const std::vector<Pair_report>& reports) {
+    rows.add(t, reports);
+  });
+  rows.finish(report::report_timing(run->step_times_us(), run->audit_times_us()));
   return out.str();
 }
 
@@ -85,7 +85,8 @@ Py_scene_outline read_outline(const std::string& path, const std::optional<std::
 struct Pair_rows {
   std::vector<double> distance, point_a, point_b, normal, params;
   std::vector<double> lower_bound;  // where `bounded`; 0 elsewhere
-  std::vector<float> step_time_us;  // each pair's step times, microseconds (cli::Scene_run)
+  // Each pair's step times and its audits' times, microseconds (Scene_stepper::run).
+  std::vector<float> step_time_us, audit_time_us;
   std::vector<std::int32_t> face_a, face_b;
   std::vector<std::int8_t> status, degeneracy, solved, bounded;
 };
@@ -112,14 +113,13 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
         restricted.push_back(scene.pairs[static_cast<std::size_t>(k)]);
       }
       selected = *pairs;
-      // Each pair has a tracker of its own (Scene_run), so a subset runs as it does in the whole.
+      // Each pair has a tracker of its own (Scene_stepper), so a subset runs as it does in the
+      // whole.
       scene.pairs = restricted;
     } else {
       for (int k = 0; k < n_pairs; ++k) selected.push_back(k);
     }
-    cli::Scene_run_options options;
-    options.threads = threads;
-    cli::Scene_run run(scene, options);
+    const std::unique_ptr<Scene_stepper> run = scene_stepper(scene, threads);
     steps = scene.step_count();
     const std::size_t n = selected.size() * static_cast<std::size_t>(steps);
     rows.distance.resize(n);
@@ -135,7 +135,7 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
     rows.lower_bound.resize(n);
     rows.bounded.resize(n);
     const auto m = static_cast<std::size_t>(steps);
-    run.run([&](int step, double, const std::vector<Pair_report>& reports) {
+    run_scene(scene, *run, [&](int step, double, const std::vector<Pair_report>& reports) {
       for (std::size_t k = 0; k < reports.size(); ++k) {
         const Pair_report& r = reports[k];
         const std::size_t at = k * m + static_cast<std::size_t>(step);
@@ -156,8 +156,10 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
       }
     });
     // Pair-major as the rows: the client rebuilds the summaries' step times from them.
-    for (const std::vector<float>& times : run.step_times_us())
+    for (const std::vector<float>& times : run->step_times_us())
       rows.step_time_us.insert(rows.step_time_us.end(), times.begin(), times.end());
+    for (const std::vector<float>& times : run->audit_times_us())
+      rows.audit_time_us.insert(rows.audit_time_us.end(), times.begin(), times.end());
   }
   const auto P = static_cast<py::ssize_t>(selected.size()), M = static_cast<py::ssize_t>(steps);
   py::dict out;
@@ -177,6 +179,7 @@ py::dict run_scene(const std::string& path, const std::optional<std::vector<int>
   out["lower_bound"] = take_array(std::move(rows.lower_bound), {P, M});
   out["bounded"] = take_array(std::move(rows.bounded), {P, M});
   out["step_time_us"] = take_array(std::move(rows.step_time_us), {P, M});
+  out["audit_time_us"] = take_array(std::move(rows.audit_time_us), {P, M});
   return out;
 }
 
@@ -195,7 +198,7 @@ py::array_t<T, py::array::c_style> part_array(const py::dict& part, const char* 
 struct Part_view {
   std::size_t steps = 0;
   py::array_t<double, py::array::c_style> distance, point_a, point_b, normal, params, lower_bound;
-  py::array_t<float, py::array::c_style> step_time_us;
+  py::array_t<float, py::array::c_style> step_time_us, audit_time_us;
   py::array_t<std::int32_t, py::array::c_style> face_a, face_b;
   py::array_t<std::int8_t, py::array::c_style> status, degeneracy, solved, bounded;
 };
@@ -242,6 +245,7 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
     v.lower_bound = part_array<double>(part, "lower_bound", p, steps, 1);
     v.bounded = part_array<std::int8_t>(part, "bounded", p, steps, 1);
     v.step_time_us = part_array<float>(part, "step_time_us", p, steps, 1);
+    v.audit_time_us = part_array<float>(part, "audit_time_us", p, steps, 1);
     views.push_back(std::move(v));
   }
   for (std::size_t k = 0; k < n_pairs; ++k)
@@ -253,10 +257,10 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
     py::gil_scoped_release release;
     std::ofstream file(output);
     if (!file) throw Invalid_input(output + ": cannot open for writing");
-    const std::unique_ptr<cli::Report_writer> writer =
-        ends_with(output, ".json") ? cli::make_json_writer(file, scene)
-                                   : cli::make_csv_writer(file, true, std::string());
-    cli::Report_rows rows(scene, *writer);
+    const std::unique_ptr<report::Report_writer> writer =
+        ends_with(output, ".json") ? report::make_json_writer(file, scene)
+                                   : report::make_csv_writer(file, true, std::string());
+    report::Report_rows rows(scene, *writer);
     std::vector<Pair_report> reports(n_pairs);
     for (std::size_t i = 0; i < steps; ++i) {
       const double t = scene.time_of(static_cast<int>(i));
@@ -282,17 +286,18 @@ std::string write_report(const Py_scene_outline& outline, const std::string& out
       }
       rows.add(t, reports);
     }
-    // The step times the workers measured, pair by pair in scene order.
-    std::vector<std::vector<float>> step_times(n_pairs);
+    // The step and audit times the workers measured, pair by pair in scene order.
+    std::vector<std::vector<float>> step_times(n_pairs), audit_times(n_pairs);
     for (std::size_t k = 0; k < n_pairs; ++k) {
-      const float* first = views[static_cast<std::size_t>(where[k].first)].step_time_us.data() +
-                           where[k].second * steps;
-      step_times[k].assign(first, first + steps);
+      const Part_view& v = views[static_cast<std::size_t>(where[k].first)];
+      const std::size_t first = where[k].second * steps;
+      step_times[k].assign(v.step_time_us.data() + first, v.step_time_us.data() + first + steps);
+      audit_times[k].assign(v.audit_time_us.data() + first, v.audit_time_us.data() + first + steps);
     }
-    const cli::Report_timing timing = cli::report_timing(step_times);
+    const report::Report_timing timing = report::report_timing(step_times, audit_times);
     const std::vector<io::Pair_summary> summaries = rows.finish(timing);
     if (!file) throw Invalid_input(output + ": write failed");
-    cli::print_summary(summary, scene, output, summaries, timing);
+    report::print_summary(summary, scene, output, summaries, timing);
   }
   return summary.str();
 }
@@ -337,9 +342,9 @@ its bodies' geometry dropped: what extremal.batch needs to plan its tasks and wr
   m.def(
       "_output_names",
       [](const std::vector<std::string>& scenes, const std::string& output) {
-        const std::vector<std::string> tags = cli::scene_tags(scenes);
+        const std::vector<std::string> tags = report::scene_tags(scenes);
         std::vector<std::string> out;
-        for (const std::string& tag : tags) out.push_back(cli::batch_path(output, tag, scenes.size() > 1));
+        for (const std::string& tag : tags) out.push_back(report::batch_path(output, tag, scenes.size() > 1));
         return out;
       },
       py::arg("scenes"), py::arg("output"),

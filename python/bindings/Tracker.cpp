@@ -13,7 +13,7 @@
 #include <pybind11/stl.h>
 
 #include "Convert.h"
-#include "cli/Scene_run.h"
+#include "algorithms/scene/Scene_setup.h"
 
 namespace extremal::python {
 
@@ -44,7 +44,7 @@ struct Py_pair_report {
 };
 
 // The tracker settings of a scene file's "tracker" object and "threshold", mapped onto the
-// trackers' options exactly as `extremal report` maps a scene's (cli::pair_options_of).
+// trackers' options exactly as `extremal report` maps a scene's (pair_options_of).
 Body_pair_options pair_options(double gain, int substeps, const std::string& integrator,
                                int audit_every, double own_basin_gap,
                                std::optional<double> threshold) {
@@ -66,7 +66,7 @@ Body_pair_options pair_options(double gain, int substeps, const std::string& int
   scene.tracker.audit_every = audit_every;
   scene.tracker.own_basin_gap = own_basin_gap;
   scene.threshold = threshold;
-  return cli::pair_options_of(scene);
+  return pair_options_of(scene);
 }
 
 // Marks the tracker in use for one call; a second thread's call raises.

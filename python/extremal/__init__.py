@@ -77,9 +77,10 @@ class Report:
     summary: dict keyed by (body_a, body_b), one per watched pair: rows, tracked_rows,
         min_distance, min_time, contact, penetration, farther (lists of {"start", "end"}),
         deepest_penetration, deepest_time (None where the pair has none), step_time_us
-        ({mean, median, p99, max}: the pair's step times in microseconds, nearest rank).
+        ({mean, median, p99, max}: the pair's step times in microseconds, nearest rank, its
+        audits excluded), audit_time_us (the same of its audits' times: 0 without audits).
     step_time_us: the scene's step times, {mean, median, p99, max} in microseconds (a step's
-        time is the sum of its pairs').
+        time is the sum of its pairs'), audits excluded; audit_time_us: the audits' times.
     scene, units, time ({start, end, step, steps}), bodies (list of {name, shape | file}),
     pairs (list of (body_a, body_b)).
 
@@ -118,6 +119,7 @@ class Report:
         self.detail = [r["detail"] for r in rows]
         self.summary = {(s["body_a"], s["body_b"]): s for s in data["summary"]}
         self.step_time_us = data["step_time_us"]
+        self.audit_time_us = data["audit_time_us"]
 
     def __len__(self):
         return len(self.status)

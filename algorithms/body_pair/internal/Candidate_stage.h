@@ -4,9 +4,17 @@
 // certified front carried across steps replaces it behind this interface. Not API.
 #pragma once
 
+#include "algorithms/body_pair/Pair_report.h"
 #include "kernel/Rigid_pose_3.h"
 
 namespace extremal::internal {
+
+// What certify_apart found: whether a certified pair's surfaces meet (the bodies are not
+// apart), and the certified lower bound on the bodies' distance it made at this step.
+struct Apart_certificate {
+  bool meet = false;
+  double lower = -HUGE_VAL;
+};
 
 class Candidate_stage {
  public:
@@ -22,8 +30,9 @@ class Candidate_stage {
   virtual void update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) = 0;
   // Apart (`best` above the contact tolerance): certifies that no candidate pair without a
   // tracker, nor a tracked pair's other basin, holds a pair closer than `best`, seeding those
-  // that do. True if it certified a pair whose surfaces meet (the bodies are not apart).
-  virtual bool certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) = 0;
+  // that do.
+  virtual Apart_certificate certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                          double best) = 0;
   // In contact: seeds the candidate pairs without a tracker once (and again once the motion may
   // have closed the gap a seed's solve certified). True if it seeded.
   virtual bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) = 0;
@@ -32,6 +41,8 @@ class Candidate_stage {
   virtual void track(int pa, int pb, const Rigid_pose_3& relative) = 0;
   // Live candidate pairs.
   virtual int size() const = 0;
+  // Its work so far (the broad phases, checks, solves and seeds of Pair_statistics).
+  virtual const Pair_statistics& statistics() const = 0;
 };
 
 }  // namespace extremal::internal

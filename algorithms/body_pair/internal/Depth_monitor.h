@@ -5,24 +5,42 @@
 // API.
 #pragma once
 
+#include "algorithms/body_pair/internal/Pair_answer.h"
 #include "algorithms/body_pair/internal/Pair_seeding.h"
+#include "algorithms/body_pair/internal/Pair_solver.h"
 #include "algorithms/distance/Penetration_depth.h"
 
 namespace extremal::internal {
 
+// The certified solver's last answer the monitor kept (a global solve's, or a hulls' depth):
+// reported at its step when no tracker holds a pair.
+struct Solved {
+  double distance = 0.0;
+  double lower_bound = -HUGE_VAL;  // certified (the solver's): at most the true distance
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
+  int pa = -1, pb = -1;  // primitives
+  Vec4 params = Vec4::Zero();
+  long step = -1;  // Pair_context::steps when it was made
+};
+
 class Depth_monitor {
  public:
-  Depth_monitor(Pair_context& context, Live_set& live, Pair_seeding& seeding)
-      : m_context(context), m_live(live), m_seeding(seeding) {}
+  Depth_monitor(Pair_context& context, Pair_solver& solver, Live_set& live, Pair_seeding& seeding)
+      : m_context(context), m_solver(solver), m_live(live), m_seeding(seeding) {}
+
+  // The last answer of the certified solver it kept (seed_overlap, check).
+  const Solved& solved() const { return m_solved; }
+  // Trackers it seeded (Pair_statistics::seeds).
+  long seeds() const { return m_seeds; }
 
   // Forgets the last check and the side entered by (the tracker starts again).
   void reset() {
     m_checked = HUGE_VAL;
     m_sheet_side = Vec3::Zero();
   }
-  // After each step's report: a solid against an open body keeps the side it is on while they
-  // are apart or in contact (the report's normal, in A's frame), the side it enters by.
-  void note_report(const Pair_report& r, const Rigid_pose_3& X_WA);
+  // After each step's answer: a solid against an open body keeps the side it is on while they
+  // are apart or in contact (the answer's normal, in A's frame), the side it enters by.
+  void note_answer(const Pair_answer& r, const Rigid_pose_3& X_WA);
   // After the trackers stepped, with the tracked minimum `best`: whether a penetration pair
   // has just become shallower than `best` by more than the depth tolerance (held, or held but
   // for not having come through contact: it may be the depth now); once per crossing.
@@ -58,9 +76,16 @@ class Depth_monitor {
   void centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
                          const Vec3& n, double depth, Vec4& params) const;
 
+  // m_solved from a solver's witness pair.
+  template <class Result>
+  void keep_solved(const Result& r, double sign = 1.0);
+
   Pair_context& m_context;
+  Pair_solver& m_solver;
   Live_set& m_live;
   Pair_seeding& m_seeding;
+  Solved m_solved;
+  long m_seeds = 0;
   double m_checked = HUGE_VAL;  // the tracked minimum at the last check
   Rigid_pose_3 m_checked_at;    // and X_AB there
   // A solid against an open body: the normal of the last report that read them apart or in

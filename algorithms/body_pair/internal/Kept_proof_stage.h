@@ -21,16 +21,19 @@ namespace extremal::internal {
 
 class Kept_proof_stage final : public Candidate_stage {
  public:
-  Kept_proof_stage(Pair_context& context, Live_set& live, Pair_seeding& seeding);
+  Kept_proof_stage(Pair_context& context, Pair_solver& solver, Live_set& live,
+                   Pair_seeding& seeding);
   ~Kept_proof_stage() override;
 
   void clear() override;
   void refresh(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach) override;
   void update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) override;
-  bool certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best) override;
+  Apart_certificate certify_apart(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                  double best) override;
   bool seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) override;
   void track(int pa, int pb, const Rigid_pose_3& relative) override;
   int size() const override { return static_cast<int>(m_candidates.size()); }
+  const Pair_statistics& statistics() const override { return m_stats; }
 
  private:
   // The poses of a restricted solve whose proofs a candidate keeps: A placed at `a`, and
@@ -211,8 +214,10 @@ class Kept_proof_stage final : public Candidate_stage {
   void release_solves(Candidate& C);
 
   Pair_context& m_context;
+  Pair_solver& m_solver;
   Live_set& m_live;
   Pair_seeding& m_seeding;
+  Pair_statistics m_stats;  // its checks, solves and seeds
   std::vector<Candidate> m_candidates, m_next_candidates;
   std::vector<Kept_proof> m_proofs;
   std::vector<Kept_bound> m_bounds;

@@ -14,6 +14,15 @@
 
 namespace extremal::internal {
 
+// How a tracker came to the side of contact it reads (Reading_rules.cpp, judge): a depth
+// counts only on a side reached through the contact band.
+enum class Provenance : unsigned char {
+  Unreached,        // placed, or moved, or handed across, and not come through contact since
+  Seeded_apart,     // placed from a solve that found the bodies apart, not read yet
+  Behind_sheet,     // seeded apart, and read behind an open sheet ever since
+  Through_contact,  // came to its side through the contact band (or placed on a depth pair)
+};
+
 // One slot: a tracked primitive pair and what its readings have shown.
 struct Live {
   int pa = -1, pb = -1;  // primitives
@@ -23,18 +32,25 @@ struct Live {
   Reading_rule rejected_by = Reading_rule::None;  // the rule that rejected it, if not valid
   Regime regime = Regime::Apart;  // of the last reading
   long stepped = -1;   // the step it was last stepped in
-  bool through_contact = false;  // it reached its side of contact through the contact band
-  // Its reading would hold but for not having come through contact (a pair seeded inside);
-  // and it read a depth shallower than the tracked one at the last step (Depth_monitor).
-  bool holds_unreached = false;
+  Provenance provenance = Provenance::Unreached;
+  // It read a depth shallower than the tracked one at the last step (Depth_monitor).
   bool was_shallower = false;
-  // Seeded from a solve that found the bodies apart; and it has read the pair behind an open
-  // sheet since its first step, never in front (Reading_rules).
-  bool seeded_apart = false;
-  bool behind_sheet = false;
   Extremal_tracker tracker{Feature::point(Vec3::Zero()), Feature::point(Vec3::Zero()), Vec4::Zero()};
   Track_result result;
 };
+
+// Slot L was placed from a solve that found the bodies apart (one through contact stays so: its
+// side is known).
+inline void mark_seeded_apart(Live& L) {
+  if (L.provenance != Provenance::Through_contact) L.provenance = Provenance::Seeded_apart;
+}
+
+// Its reading would hold but for not having come through contact (a pair seeded inside), in
+// front of any sheet: it may be the depth (Depth_monitor).
+inline bool holds_unreached(const Live& L) {
+  return L.rejected_by == Reading_rule::Depth_not_reached_through_contact &&
+         L.provenance != Provenance::Behind_sheet;
+}
 
 // Whether slot L's normalised projection errors are within `limit` along every parameter not
 // held on a domain bound (one held there keeps the crease's projection error).
@@ -43,6 +59,9 @@ bool is_converged_along_free(const Pair_context& context, const Live& L, double 
 class Live_set {
  public:
   explicit Live_set(Pair_context& context);
+
+  // Transitions, merges, and the trackers' corrections (Pair_statistics).
+  const Pair_statistics& statistics() const { return m_stats; }
 
   std::vector<Live>& slots() { return m_live; }
   const std::vector<Live>& slots() const { return m_live; }
@@ -95,6 +114,7 @@ class Live_set {
   std::vector<int> m_free;  // free slots of m_live
   std::vector<std::pair<std::uint64_t, int>> m_keys;  // see index
   long m_generation = 0;
+  Pair_statistics m_stats;
 };
 
 template <class F>

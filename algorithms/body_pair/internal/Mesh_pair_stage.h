@@ -15,24 +15,30 @@
 #include <memory>
 
 #include "algorithms/body_pair/Body_pair_options.h"
-#include "algorithms/body_pair/Pair_report.h"
 #include "algorithms/body_pair/Tracking_model.h"
+#include "algorithms/body_pair/internal/Pair_engine.h"
 #include "algorithms/mesh/Mesh_front.h"
 
 namespace extremal::internal {
 
-class Mesh_pair_stage {
+class Mesh_pair_stage final : public Pair_engine {
  public:
   // Whether the pair of models is one this engine takes.
   static bool takes(const Tracking_model& a, const Tracking_model& b);
 
-  Mesh_pair_stage(const Tracking_model& a, const Tracking_model& b, const Body_pair_options& options);
+  // The models must outlive it.
+  Mesh_pair_stage(std::shared_ptr<const Tracking_model> a, std::shared_ptr<const Tracking_model> b,
+                  const Body_pair_options& options);
 
-  // The reading at poses X_WA, X_WB into `r` (all but its time).
-  void step(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Pair_report& r,
-            Pair_statistics& stats);
-  // The next step starts the front again from the roots (the pair left the threshold).
-  void reset() { m_started = false; }
+  // (The first step makes the front from the roots.)
+  void start(const Rigid_pose_3&, const Rigid_pose_3&) override { m_started = false; }
+  const Pair_answer& step(const Pair_step& step) override;
+  double box_bound(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const override {
+    return boxes_apart(m_a, X_WA, m_b, X_WB);
+  }
+  // The next step starts the front again from the roots.
+  void farther(double, const Rigid_pose_3&) override { m_started = false; }
+  void add_statistics(Pair_statistics& s) const override;
 
   const Mesh_front_statistics& front_statistics() const { return m_front.statistics(); }
 
@@ -40,11 +46,12 @@ class Mesh_pair_stage {
   // Whether the bodies overlap though their surfaces are apart: one closed body wholly inside
   // the other (or the point inside the closed mesh).
   bool nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) const;
-  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, Pair_report& r);
+  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
 
+  std::shared_ptr<const Tracking_model> m_models[2];
   const Tracking_model& m_a;
   const Tracking_model& m_b;
-  const Body_pair_options& m_options;
+  const Body_pair_options m_options;
   // The front runs from the mesh side M (A, unless A is the point) to the other side O.
   bool m_swapped;
   const Mesh_bvh& m_mesh;
@@ -52,6 +59,7 @@ class Mesh_pair_stage {
   Mesh_front m_front;
   bool m_started = false;
   Rigid_pose_3 m_last;  // X_MO of the last step
+  Pair_answer m_answer;
 };
 
 }  // namespace extremal::internal

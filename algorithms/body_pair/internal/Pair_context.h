@@ -1,6 +1,6 @@
-// What every stage of a body-pair tracker shares (Body_pair_tracker.cpp): the two prepared
-// bodies, the options, the pair's kind, this step's inputs, the statistics, the certified
-// solver's workspace and its last answer. Not API.
+// What every stage of a body-pair tracker reads (Stage_engine.h): the two prepared bodies, the
+// options (fixed at construction), the pair's kind, and this step's inputs (set once a step by
+// the engine, read by the stages). No stage writes its results here: each owns them. Not API.
 #pragma once
 
 #include <array>
@@ -13,17 +13,6 @@
 #include "algorithms/body_pair/internal/Pair_kind.h"
 
 namespace extremal::internal {
-
-// The certified solver's last answer (start, re-seed, depth check): reported at its step when
-// no tracker holds a pair.
-struct Solved {
-  double distance = 0.0;
-  double lower_bound = -HUGE_VAL;  // certified (the solver's): at most the true distance
-  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero(), normal = Vec3::Zero();
-  int pa = -1, pb = -1;  // primitives
-  Vec4 params = Vec4::Zero();
-  long step = -1;  // Pair_context::steps when it was made
-};
 
 class Pair_context {
  public:
@@ -48,7 +37,7 @@ class Pair_context {
   // Whether body `side` (0 A, 1 B) is certified convex (made on first use).
   bool convex_body(int side);
   // Whether the distance between primitives pa and pb apart has at most one basin inside
-  // their domains, within the error budget at distance d: both flat, or one flat and the other
+  // their domains, within this step's error budget at distance d: both flat, or one flat and the other
   // on a convex body (a convex function restricted to a plane or a line), each flat within a
   // fraction of the budget (k_flat_budget). A converged tracker on such a pair reads its
   // minimum over the domains' insides (their borders are their edges' pairs).
@@ -56,22 +45,10 @@ class Pair_context {
   // flat_single_basin with its stationary point unique and regular (one side a point, or one
   // a convex body's face): Newton's method finds it (Kept_proof_stage::locate_single_basin).
   bool single_basin_locatable(int pa, int pb, double d);
-  // The global solver on the whole pair (Body_pair_options::global), counted as an audit.
-  Distance_result global_solve(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
-  // `solved` from a solver's witness pair.
-  void keep_solved(double distance, const Vec3& point_a, const Vec3& point_b, const Vec3& normal,
-                   Element_kind kind_a, int element_a, const std::array<double, 2>& params_a,
-                   Element_kind kind_b, int element_b, const std::array<double, 2>& params_b);
-  template <class Result>
-  void keep_solved(const Result& r) {
-    keep_solved(r.distance, r.point_a, r.point_b, r.normal, r.kind_a, r.element_a, r.params_a,
-                r.kind_b, r.element_b, r.params_b);
-  }
 
-  std::shared_ptr<const Tracking_model> model_a, model_b;
-  Body_pair_options options;
-  Pair_kind kind;
-  std::vector<Feature> features_a, features_b;
+  const std::shared_ptr<const Tracking_model> model_a, model_b;
+  const Body_pair_options options;
+  const Pair_kind kind;
 
   // This step's inputs (Body_pair_tracker::step), read by the trackers' steps and transitions.
   double t = 0.0, dt = 1e-3;
@@ -81,15 +58,8 @@ class Pair_context {
   const Twist_3* V_B = nullptr;
   Rigid_pose_3 relative, previous_relative;  // X_AB at this step and the one before
   long steps = 0;                            // steps begun since construction
-
-  // The certified lower bound on the bodies' distance that the candidate stage's certification
-  // made at step `certified_at` (Candidate_stage::certify_apart; -1: none yet).
-  double certified_lower = -HUGE_VAL;
-  long certified_at = -1;
-
-  Pair_statistics stats;
-  Distance_workspace workspace;
-  Solved solved;
+  // The error budget this step is certified at (Pair_step::budget).
+  Error_budget budget;
 
  private:
   double m_boxes_bound = HUGE_VAL;

@@ -5,13 +5,17 @@
 
 #include "algorithms/body_pair/internal/Candidate_stage.h"
 #include "algorithms/body_pair/internal/Live_set.h"
+#include "algorithms/body_pair/internal/Pair_solver.h"
 
 namespace extremal::internal {
 
 class Pair_seeding {
  public:
-  Pair_seeding(Pair_context& context, Live_set& live) : m_context(context), m_live(live) {}
+  Pair_seeding(Pair_context& context, Pair_solver& solver, Live_set& live)
+      : m_context(context), m_solver(solver), m_live(live) {}
   void attach(Candidate_stage& candidates) { m_candidates = &candidates; }
+  // Trackers it seeded (Pair_statistics::seeds).
+  long seeds() const { return m_seeds; }
 
   // Seeds pair (pa, pb) from the global solver restricted to it (or its closed form, or
   // sampled where the solver has no element for it: mesh edges). Returns that solve's
@@ -33,8 +37,10 @@ class Pair_seeding {
 
  private:
   Pair_context& m_context;
+  Pair_solver& m_solver;
   Live_set& m_live;
   Candidate_stage* m_candidates = nullptr;
+  long m_seeds = 0;
 };
 
 }  // namespace extremal::internal

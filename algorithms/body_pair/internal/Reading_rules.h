@@ -9,7 +9,7 @@
 
 namespace extremal::internal {
 
-// A reading as the rules see it: the slot (its result and the flags of its past readings),
+// A reading as the rules see it: the slot (its result and its provenance),
 // its primitives, and the pair's context (poses, kind, tolerances).
 struct Reading {
   const Live& slot;
@@ -25,11 +25,11 @@ struct Rule_entry {
 };
 // In the order applied. The first two run before the reading's passage through contact is
 // recorded (they decide it); the last runs after all others, so that a reading it alone
-// rejects is known (Live::holds_unreached).
+// rejects is known (holds_unreached, Live_set.h).
 extern const std::array<Rule_entry, 9> k_reading_rules;
 
 // Judges slot L's reading, just stepped (`first`: its first step): sets L.valid, L.rejected_by
-// and the flags it keeps (through_contact, behind_sheet, holds_unreached).
+// and L.provenance.
 void judge(Live& L, bool first, Pair_context& context);
 
 // Whether rule r alone rejects slot L's reading as it stands (for tests).

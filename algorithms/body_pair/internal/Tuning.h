@@ -89,7 +89,7 @@ constexpr double k_facing_pair = 1e-2;
 constexpr double k_coarse_depth_tolerance = 1e-3;
 constexpr double k_depth_pair_tolerance = 1e-6;
 
-// ---- Balls tracked as their centres (Ball_offset) ----------------------------------------
+// ---- Balls tracked as their centres (Ball_pair) ------------------------------------------
 // The witness's parameters on a ball's face: Newton's method from the last step's, at most this
 // many corrections, to this normalised projection error. Shown by
 // BodyScenes.ABallIsTrackedAsItsCentre.

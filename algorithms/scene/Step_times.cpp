@@ -1,4 +1,4 @@
-#include "cli/Step_times.h"
+#include "algorithms/scene/Step_times.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "kernel/Error.h"
 
-namespace extremal::cli {
+namespace extremal::report {
 
 namespace {
 
@@ -41,17 +41,33 @@ Step_time_stats step_time_stats(std::vector<float> samples_us) {
   return s;
 }
 
-Report_timing report_timing(const std::vector<std::vector<float>>& per_pair) {
-  Report_timing timing;
+namespace {
+
+// Each pair's statistics and those of the pairs' sums per step.
+void pair_and_scene_stats(const std::vector<std::vector<float>>& per_pair,
+                          std::vector<Step_time_stats>& pairs, Step_time_stats& scene_stats) {
   const std::size_t steps = per_pair.empty() ? 0 : per_pair.front().size();
   std::vector<float> scene(steps, 0.0f);
   for (const auto& times : per_pair) {
     EXTREMAL_PRECONDITION_MSG(times.size() == steps,
                               "step times: " << times.size() << " steps, expected " << steps);
     for (std::size_t i = 0; i < steps; ++i) scene[i] += times[i];
-    timing.pairs.push_back(step_time_stats(times));
+    pairs.push_back(step_time_stats(times));
   }
-  timing.scene = step_time_stats(std::move(scene));
+  scene_stats = step_time_stats(std::move(scene));
+}
+
+}  // namespace
+
+Report_timing report_timing(const std::vector<std::vector<float>>& per_pair,
+                            const std::vector<std::vector<float>>& audits) {
+  Report_timing timing;
+  pair_and_scene_stats(per_pair, timing.pairs, timing.scene);
+  if (audits.empty())
+    timing.audit_pairs.assign(per_pair.size(), Step_time_stats{});
+  else
+    pair_and_scene_stats(audits, timing.audit_pairs, timing.audit_scene);
+  EXTREMAL_PRECONDITION(timing.audit_pairs.size() == timing.pairs.size());
   return timing;
 }
 
@@ -64,4 +80,4 @@ std::string step_time_text(const Step_time_stats& s) {
          short_us(s.p99) + ", max " + short_us(s.max);
 }
 
-}  // namespace extremal::cli
+}  // namespace extremal::report

@@ -1,11 +1,11 @@
-#include "cli/Report_rows.h"
+#include "algorithms/scene/Report_rows.h"
 
 #include <filesystem>
 #include <set>
 
 #include "kernel/Error.h"
 
-namespace extremal::cli {
+namespace extremal::report {
 
 std::vector<std::string> scene_tags(const std::vector<std::string>& scenes) {
   std::vector<std::string> tags;
@@ -60,4 +60,4 @@ std::vector<io::Pair_summary> Report_rows::finish(const Report_timing& timing) {
   return result;
 }
 
-}  // namespace extremal::cli
+}  // namespace extremal::report

@@ -9,7 +9,7 @@
 #include "io/Scene.h"
 #include "io/Svg_plot.h"
 
-namespace extremal::cli {
+namespace extremal::io {
 
 // The distance curve of a pair, thinned as it is collected so long runs stay small: each run of
 // `bucket` consecutive rows keeps its first, lowest, highest and last row (a short dip survives).
@@ -37,4 +37,4 @@ class Pair_series {
 io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
                          const std::vector<io::Pair_summary>& summaries);
 
-}  // namespace extremal::cli
+}  // namespace extremal::io

@@ -1,11 +1,11 @@
-#include "cli/Report_plot.h"
+#include "io/Report_plot.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
 
-namespace extremal::cli {
+namespace extremal::io {
 
 namespace {
 
@@ -130,4 +130,4 @@ io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>&
   return plot;
 }
 
-}  // namespace extremal::cli
+}  // namespace extremal::io

@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "algorithms/Body_pair_tracker.h"
-#include "cli/Report_writer.h"
-#include "cli/Step_times.h"
+#include "algorithms/scene/Report_writer.h"
+#include "algorithms/scene/Step_times.h"
 #include "io/Pair_summary.h"
 #include "io/Scene.h"
 
-namespace extremal::cli {
+namespace extremal::report {
 
 // The tags of a batch's output names: each scene file's stem, or <k>-<stem> (k = 1, 2, ...
 // the scene's position) for every scene when two scenes share a stem.
@@ -45,4 +45,4 @@ class Report_rows {
   std::vector<bool> m_was_farther;  // at the last written step
 };
 
-}  // namespace extremal::cli
+}  // namespace extremal::report

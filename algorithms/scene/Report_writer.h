@@ -10,11 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "algorithms/body_pair/Body_pair_tracker.h"
-#include "cli/Step_times.h"
+#include "algorithms/scene/Step_times.h"
 #include "io/Pair_summary.h"
 #include "io/Scene.h"
 
-namespace extremal::cli {
+namespace extremal::report {
 
 // The CSV header: the contract's columns, then ours (detail, the pair's parameters, the
 // certified lower bound, empty where there is none) and, in a batch written to one stream, the
@@ -44,17 +44,18 @@ class Report_writer {
 std::unique_ptr<Report_writer> make_csv_writer(std::ostream& out, bool header,
                                                const std::string& scene_column);
 // One JSON object: the scene, its bodies and pairs, the rows, then the summaries (each with its
-// pair's "step_time_us") and the scene's "step_time_us".
+// pair's "step_time_us" and "audit_time_us") and the scene's "step_time_us" and "audit_time_us".
 std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Scene& scene);
 
 // A summary as JSON: {"body_a", "body_b", "rows", "min_distance", "min_time", "contact":
 // [[start, end], ...], "penetration": [...], "deepest_penetration", "deepest_time", "farther", "uncertified",
-// "step_time_us": {"mean", "median", "p99", "max"}}.
+// "step_time_us": {"mean", "median", "p99", "max"}, "audit_time_us": {the same}}.
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
-                            const io::Pair_summary& s, const Step_time_stats& step_time);
+                            const io::Pair_summary& s, const Step_time_stats& step_time,
+                            const Step_time_stats& audit_time);
 
 // The readable summary of a scene run, a few lines per pair, with the step times.
 void print_summary(std::ostream& out, const io::Scene& scene, const std::string& written_to,
                    const std::vector<io::Pair_summary>& summaries, const Report_timing& timing);
 
-}  // namespace extremal::cli
+}  // namespace extremal::report

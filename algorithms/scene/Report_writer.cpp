@@ -1,11 +1,11 @@
-#include "cli/Report_writer.h"
+#include "algorithms/scene/Report_writer.h"
 
 #include <cstdio>
 #include <sstream>
 
 #include "kernel/Error.h"
 
-namespace extremal::cli {
+namespace extremal::report {
 
 namespace {
 
@@ -107,10 +107,11 @@ class Json_writer final : public Report_writer {
       const auto& [a, b] = m_scene.pairs[k];
       m_out << (k ? ",\n" : "\n")
             << summary_json(m_scene.bodies[a].name, m_scene.bodies[b].name, summaries[k],
-                            timing.pairs[k])
+                            timing.pairs[k], timing.audit_pairs[k])
                    .dump();
     }
-    m_out << "\n],\n\"step_time_us\": " << step_time_json(timing.scene).dump() << "\n}\n";
+    m_out << "\n],\n\"step_time_us\": " << step_time_json(timing.scene).dump()
+          << ",\n\"audit_time_us\": " << step_time_json(timing.audit_scene).dump() << "\n}\n";
     m_out.flush();
   }
 
@@ -181,7 +182,8 @@ std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Sce
 }
 
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
-                            const io::Pair_summary& s, const Step_time_stats& step_time) {
+                            const io::Pair_summary& s, const Step_time_stats& step_time,
+                            const Step_time_stats& audit_time) {
   nlohmann::json j = {{"body_a", body_a}, {"body_b", body_b}, {"rows", s.rows},
                       {"tracked_rows", s.tracked_rows}};
   j["min_distance"] = s.min_distance ? nlohmann::json(*s.min_distance) : nlohmann::json();
@@ -194,6 +196,7 @@ nlohmann::json summary_json(const std::string& body_a, const std::string& body_b
   j["farther"] = intervals_json(s.farther);
   j["uncertified"] = intervals_json(s.uncertified);
   j["step_time_us"] = step_time_json(step_time);
+  j["audit_time_us"] = step_time_json(audit_time);
   return j;
 }
 
@@ -208,6 +211,8 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
   if (!written_to.empty()) out << " -> " << written_to;
   out << "\n";
   out << "  step time of the scene (its pairs' together): " << step_time_text(timing.scene) << "\n";
+  if (timing.audit_scene.max > 0.0)
+    out << "  audits (apart from the step time): " << step_time_text(timing.audit_scene) << "\n";
   for (std::size_t k = 0; k < summaries.size(); ++k) {
     const io::Pair_summary& s = summaries[k];
     const auto& [a, b] = scene.pairs[k];
@@ -238,4 +243,4 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
   }
 }
 
-}  // namespace extremal::cli
+}  // namespace extremal::report

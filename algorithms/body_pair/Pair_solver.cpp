@@ -1,0 +1,17 @@
+#include "algorithms/body_pair/internal/Pair_solver.h"
+
+#include <algorithm>
+
+namespace extremal::internal {
+
+Distance_result Pair_solver::global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  ++m_solves;
+  const Pair_context& c = m_context;
+  Distance_request request = c.options.global;
+  request.absolute_tolerance = std::min(request.absolute_tolerance, c.budget.absolute);
+  request.relative_tolerance = std::min(request.relative_tolerance, c.budget.relative);
+  return extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB, request,
+                           m_workspace);
+}
+
+}  // namespace extremal::internal
