@@ -42,6 +42,28 @@ bool inside(const Parameter_box& box, int na, int nb, const Bound_proof& p) {
   return true;
 }
 
+// A lower bound on the distance between primitives A and B (bodies placed by X_WA, X_WB) from
+// a point pair of theirs (r's witnesses), any shapes: |q - p| is convex, so over the pair it is
+// at least r's distance less how far each box reaches past its witness against the direction
+// n between them (first-order bound; zero reach where the witnesses are the boxes' extremes
+// along n). Test BodyScenes.NearParallelPlatesRowsBoundStaysBelowTheirLowestCorner.
+double first_order_lower(const Track_result& r, const Primitive& A, const Primitive& B,
+                         const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  const Vec3 diff = r.point_b - r.point_a;
+  const double d = diff.norm();
+  if (!(d > 0.0) || !std::isfinite(d)) return -HUGE_VAL;
+  const Vec3 n = diff / d;
+  const Vec3 na = X_WA.rotation().transpose() * n, nb = X_WB.rotation().transpose() * n;
+  const Vec3 pa = X_WA.inverse().apply_point(r.point_a), pb = X_WB.inverse().apply_point(r.point_b);
+  const double reach_a = std::max(box_support(A.box, na) - na.dot(pa), 0.0);
+  const double reach_b = std::max(box_support(B.box, -nb) + nb.dot(pb), 0.0);
+  // (Less the rounding of the terms, at the scale of the coordinates.)
+  const double scale = d + r.point_a.norm() + r.point_b.norm() + pa.norm() + pb.norm() +
+                       box_diagonal(A.box) + box_diagonal(B.box);
+  return std::min(d, std::abs(r.distance)) - reach_a - reach_b -
+         8.0 * std::numeric_limits<double>::epsilon() * scale;
+}
+
 }  // namespace
 
 unsigned Kept_proof_stage::carried_sides(int side, int p, int other, double tol) const {
@@ -235,11 +257,21 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
     // decayed, or the boxes.
     // (A flat pair, or a flat primitive against a convex body, has one basin: its converged
     // tracker reads its minimum. Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.)
-    const bool one_basin = held && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance) &&
-                           m_live.is_converged(m_live[C.tracked_slot], k_converged_error);
+    bool one_basin = held && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance) &&
+                     m_live.is_converged(m_live[C.tracked_slot], k_converged_error);
+    double tracked_lower = C.tracked_distance;
+    // Two flat primitives neither a point (near parallel: the distance nearly constant, a
+    // converged reading anywhere up to the faces' extent times their angle above the minimum):
+    // the reading's first-order bound, which must clear the budget, else the pair is watched.
+    // Test BodyScenes.NearParallelPlatesRowsBoundStaysBelowTheirLowestCorner.
+    if (one_basin && !m_live[C.tracked_slot].closed_form &&
+        !m_context.single_basin_locatable(pa, pb, C.tracked_distance)) {
+      tracked_lower = first_order_lower(m_live[C.tracked_slot].result, A, B, X_WA, X_WB);
+      one_basin = tracked_lower >= need_apart;
+    }
     if ((held && (!watch || one_basin)) || !certifiable(pa, pb)) {
       const bool exact = held && (!watch || one_basin || m_live[C.tracked_slot].closed_form);
-      double lower = exact ? C.tracked_distance
+      double lower = exact ? (one_basin ? tracked_lower : C.tracked_distance)
                            : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
       if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
       return lower;

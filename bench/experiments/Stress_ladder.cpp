@@ -646,11 +646,7 @@ const std::vector<Ladder_sweep>& ladder_sweeps() {
                  "cylinder beside cylinder", "angle (rad)",
                  "distance of the skew axes - radii (Quad)", angle, {1e-3, 1e-9, 0.0}, "", ""});
     v.push_back({"angle_plane_over_plane", "angle between axes", "angle", "plane over plane",
-                 "tilt (rad)", "lowest corner (Quad)", angle, {1e-3, 1e-9, 0.0},
-                 "tilts 1e-6 to 1e-12: the tracker reads a point inside the faces, up to "
-                 "0.64 x tilt above the lowest corner, and reports that reading as its lower "
-                 "bound",
-                 "tracked: lower bound above the reference"});
+                 "tilt (rad)", "lowest corner (Quad)", angle, {1e-3, 1e-9, 0.0}, "", ""});
     v.push_back({"gap_sphere_plane", "gap to tangency", "gap", "sphere over plane", "gap",
                  "c_z - |row z of R| (Quad)", gap, {1e-3, 1e-10, 1e-14}, "", ""});
     v.push_back({"gap_ellipsoids", "gap to tangency", "gap", "ellipsoid over ellipsoid", "gap",
