@@ -181,6 +181,29 @@ TEST(ProbeScenes, AScrewPushedThroughAPlaneIsApartOnceOut) {
   EXPECT_LE(run.worst_apart, 1e-8);
 }
 
+// screw.step (B, tilted 1.2 or 2 rad about x) through a plane (A) and out past its border while
+// below it (moving at 40 across and 60 down). Past the border, at t = 1.1 and 1.22 to 1.24,
+// the pair the certified solve found apart was read behind the plane (the screw's witness on
+// an edge, the sign the sheet's) and held nothing, and a farther pair was reported: 9.49 and
+// 6.12 to 7.56, uncertified, where the screw was 0.33 and 0.25 to 1.45 away.
+TEST(ProbeScenes, ASolidThroughASheetAndOutPastItsBorderIsApart) {
+  static const io::Model screw = io::read_model(shared_data("step/screw.step"));
+  const Body plane = make_plane_body(100.0, 100.0);
+  for (const double turn : {0.6, 1.0}) {
+    const Rigid_pose_3 start = Rigid_pose_3::from_quaternion(
+        Vec3(17.9, -12.5, 55.15), std::cos(turn), std::sin(turn), 0.0, 0.0);
+    Twist_3 v;
+    v.linear = Vec3(40.0, 0.0, -60.0);
+    const Probe_run run = run_probe(plane, Rigid_pose_3(), screw.bodies.at(0),
+                                    Motion::twist(start * screw.bodies.at(0).placement, v, 0.0),
+                                    0.0, 2.0, 0.02);
+    EXPECT_EQ(run.read_apart_while_overlapping, 0);
+    EXPECT_GE(run.apart_rows, 70);
+    EXPECT_GE(run.overlapping_rows, 20);
+    EXPECT_LE(run.worst_apart, 1e-8) << "turned " << turn;
+  }
+}
+
 // scripts/probe-scenes.py --seed 777 --heavy, scene 10: OCC22459-TEST2.stp's third sheet (A,
 // static) against a plane (B) turning as it passes (its poses from t = 0.42 to 0.5, the table
 // rows). The tracker on A's straight edge 5 against the plane started on the plane's corner;
