@@ -9,7 +9,8 @@
 //   - apart (the reference finds the bodies apart): error = |reported - s|, counted wrong when
 //     it exceeds the tolerance plus the reference's own bound width plus the bodies' largest
 //     edge tolerances (a file whose edges lie off their faces by that much is read on either);
-//     Between two open sheets only the size is compared (their sign is A's normal's);
+//     a row reading them overlapping (below minus that allowance) is a wrong sign. Open sheets
+//     too: apart, an open sheet has no inside, and its row is the distance, positive;
 //   - overlapping: a row reading the bodies apart is a wrong sign. The depth is checked where a
 //     reference depth is known, first that applies (README, "Distances, contact and
 //     penetration"):
@@ -177,7 +178,7 @@ bool within_sheet(const Shape& plane, const Rigid_pose_3& X_P, const Bbox_3& wor
 
 void judge_row(const Options& o, const io::Scene& scene, int k, double t, const Pair_report& r,
                const Signed_distance_result& ref, const Depth& depth, double model_tolerance,
-               bool sheets, Pair_tally& tally) {
+               Pair_tally& tally) {
   const auto& [ia, ib] = scene.pairs[k];
   const std::string who = scene.bodies[ia].name + " - " + scene.bodies[ib].name;
   auto wrong = [&](const char* what, double expected, double lower, double upper) {
@@ -211,15 +212,17 @@ void judge_row(const Options& o, const io::Scene& scene, int k, double t, const 
       o.tolerance * std::max(1.0, std::abs(ref.distance)) + width + model_tolerance;
   if (ref.overlap == Overlap_kind::None) {
     ++tally.apart;
-    // Two open sheets read their sign from A's normal (README: a plane passed through another
-    // stays behind it), which the reference, with no inside to either, does not.
-    const double reported = sheets ? std::abs(r.distance) : r.distance;
-    const double e = std::abs(reported - ref.distance);
+    const double e = std::abs(r.distance - ref.distance);
     if (e > tally.max_apart_error) {
       tally.max_apart_error = e;
       tally.t_max_apart_error = t;
     }
-    if (e > allowed) wrong("apart, off", ref.distance, ref.lower_bound, ref.upper_bound);
+    if (r.distance < -allowed) {
+      ++tally.wrong_sign;
+      wrong("apart, read overlapping", ref.distance, ref.lower_bound, ref.upper_bound);
+    } else if (e > allowed) {
+      wrong("apart, off", ref.distance, ref.lower_bound, ref.upper_bound);
+    }
     return;
   }
   ++tally.overlapping;
@@ -375,8 +378,7 @@ int verify(const Options& o, const std::string& path) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (check)
         judge_row(o, scene, static_cast<int>(k), t, reports[k], ref, depth,
-                  edge_tolerances[ia] + edge_tolerances[ib],
-                  !ref.closed_a.closed && !ref.closed_b.closed, tallies[k]);
+                  edge_tolerances[ia] + edge_tolerances[ib], tallies[k]);
     }
     clock = std::chrono::steady_clock::now();
   });
@@ -420,7 +422,7 @@ int main(int argc, char** argv) {
   app.add_flag("--rows", o.rows, "Print every wrong row");
   app.footer(
       "Rows are checked against the certified signed distance at the same poses. Apart: the\n"
-      "distance. Overlapping: the sign, and the depth where one is known: a closed form (two\n"
+      "distance, positive (open sheets too; a row read overlapping is a wrong sign). Overlapping: the sign, and the depth where one is known: a closed form (two\n"
       "`sphere` shapes; a `sphere` or `ellipsoid` shape through a `plane` shape, the depth of\n"
       "the side it entered by), the certified bounds of two certified convex bodies, or, for\n"
       "any other solid through a `plane` shape, the entry side's depth from the solid's support\n"

@@ -2,7 +2,8 @@
 // and a point inside a sphere against their closed forms, overlapping ellipsoids against a brute
 // force minimisation of the analytic overlap(n), certified bounds that bracket the truth,
 // separated bodies exactly as the plain certified distance, containment (winding numbers,
-// closedness) on spheres, the cylinder and the non-convex B-rep bracket, and budgets.
+// closedness) on spheres, the cylinder and the non-convex B-rep bracket, a point inside the
+// bracket against its certified distance to the surface, and budgets.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -278,6 +279,35 @@ TEST(PenetrationDepth, WindingNumbersOfClosedBodies) {
   EXPECT_NEAR(far.value, 0.0, 1e-3);
   EXPECT_TRUE(near.inside());
   EXPECT_NEAR(near.value, 1.0, 1e-2);
+}
+
+// A point in the bracket's wall (x from 2.5 to 4), 0.4 from the slot's side and 1 below the
+// top: its depth is its distance to the surface, 0.4, the translation that takes it out, not
+// the depth of the bracket's hull (1, to the hull's top; the slot is in the hull). Swapped, the
+// same.
+TEST(PenetrationDepth, PointInsideANonConvexPartIsItsDistanceToTheSurface) {
+  const Body bracket = make_bracket_body(), p = make_point_body();
+  Signed_distance_request req;
+  req.absolute_tolerance = 1e-10;
+  req.relative_tolerance = 0.0;
+  const Rigid_pose_3 X_P(Mat3::Identity(), Vec3(2.9, 1.0, 3.0));
+  const Signed_distance_result r = signed_distance(p, X_P, bracket, Rigid_pose_3(), req);
+  ASSERT_EQ(r.status, Signed_distance_status::Penetrating) << to_string(r.status);
+  EXPECT_EQ(r.overlap, Overlap_kind::A_inside_B);
+  EXPECT_TRUE(r.depth_is_translation_distance);
+  expect_brackets(r, -0.4, 1e-10);
+  EXPECT_NEAR((r.point_b - r.point_a - r.distance * r.normal).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((r.point_b - Vec3(2.5, 1.0, 3.0)).norm(), 0.0, 1e-8);  // the slot's side
+  // The certified unsigned distance, negated.
+  Distance_request dreq;
+  dreq.absolute_tolerance = 1e-10;
+  dreq.relative_tolerance = 0.0;
+  const Distance_result g = extremal_distance(p, X_P, bracket, Rigid_pose_3(), dreq);
+  EXPECT_NEAR(r.distance, -g.distance, 1e-10);
+  const Signed_distance_result swapped = signed_distance(bracket, Rigid_pose_3(), p, X_P, req);
+  EXPECT_EQ(swapped.overlap, Overlap_kind::B_inside_A);
+  expect_brackets(swapped, -0.4, 1e-10);
+  EXPECT_NEAR((swapped.point_b - swapped.point_a - swapped.distance * swapped.normal).norm(), 0.0, 1e-9);
 }
 
 // The U-shaped bracket (8 x 10 x 4, slot 5 wide down to the floor at z = 1): a ball in the slot

@@ -181,5 +181,76 @@ TEST(ProbeScenes, AScrewPushedThroughAPlaneIsApartOnceOut) {
   EXPECT_LE(run.worst_apart, 1e-8);
 }
 
+// screw.step (B, tilted 1.2 or 2 rad about x) through a plane (A) and out past its border while
+// below it (moving at 40 across and 60 down). Past the border, at t = 1.1 and 1.22 to 1.24,
+// the pair the certified solve found apart was read behind the plane (the screw's witness on
+// an edge, the sign the sheet's) and held nothing, and a farther pair was reported: 9.49 and
+// 6.12 to 7.56, uncertified, where the screw was 0.33 and 0.25 to 1.45 away.
+TEST(ProbeScenes, ASolidThroughASheetAndOutPastItsBorderIsApart) {
+  static const io::Model screw = io::read_model(shared_data("step/screw.step"));
+  const Body plane = make_plane_body(100.0, 100.0);
+  for (const double turn : {0.6, 1.0}) {
+    const Rigid_pose_3 start = Rigid_pose_3::from_quaternion(
+        Vec3(17.9, -12.5, 55.15), std::cos(turn), std::sin(turn), 0.0, 0.0);
+    Twist_3 v;
+    v.linear = Vec3(40.0, 0.0, -60.0);
+    const Probe_run run = run_probe(plane, Rigid_pose_3(), screw.bodies.at(0),
+                                    Motion::twist(start * screw.bodies.at(0).placement, v, 0.0),
+                                    0.0, 2.0, 0.02);
+    EXPECT_EQ(run.read_apart_while_overlapping, 0);
+    EXPECT_GE(run.apart_rows, 70);
+    EXPECT_GE(run.overlapping_rows, 20);
+    EXPECT_LE(run.worst_apart, 1e-8) << "turned " << turn;
+  }
+}
+
+// scripts/probe-scenes.py --seed 777 --heavy, scene 10: OCC22459-TEST2.stp's third sheet (A,
+// static) against a plane (B) turning as it passes (its poses from t = 0.42 to 0.5, the table
+// rows). The tracker on A's straight edge 5 against the plane started on the plane's corner;
+// the pair's minimum then moved along the plane's side, and the tracker stayed held on the
+// corner, converged along its one free parameter. As a flat pair it has one basin, so its
+// reading was taken for the pair's minimum: rows read 658.5 to 474.9 with that as their
+// certified lower bound, where the bodies were 656.5 to 397.1 apart.
+TEST(ProbeScenes, ASheetsEdgeHeldOnAPlanesCornerIsNoCertificate) {
+  const io::Model sheets = io::read_model(shared_data("step/OCC22459-TEST2.stp"));
+  const Body& sheet = sheets.bodies.at(2);
+  const Body plane = make_plane_body(2210.651106678419, 2352.2853334211404);
+  const Rigid_pose_3 X_WA =
+      Rigid_pose_3::from_quaternion(Vec3(-1383.9104202129984, 1207.4237999398642, 995.0969790987162),
+                                    0.5284815938253967, 0.7066412794567927, 0.24635699865379063,
+                                    -0.40084103628462464) *
+      sheet.placement;
+  const std::vector<std::array<double, 8>> rows = {
+      {0.42, -2319.112112264441, 2244.934959246747, 1444.3560652270899, 0.5524567472391922,
+       0.6828419048595745, -0.45264602448097685, 0.15372069450534653},
+      {0.44, -2264.2633453164453, 2159.8074646057958, 1382.831798504608, 0.5520609566599682,
+       0.6817458625679313, -0.4546022422160806, 0.154233849641705},
+      {0.46, -2209.41457836845, 2074.6799699648445, 1321.3075317821265, 0.5516621584112983,
+       0.68064610607376, -0.456555983244115, 0.15474616450049714},
+      {0.48, -2154.5658114204543, 1989.5524753238933, 1259.783265059645, 0.5512603546658649,
+       0.6795426413686164, -0.4585072369209526, 0.15525763629059328},
+      {0.5, -2099.717044472459, 1904.424980682942, 1198.2589983371631, 0.550855547612725,
+       0.6784354744642591, -0.46045599261601733, 0.15576826222545673}};
+  std::vector<Keyframe> frames;
+  for (const auto& r : rows)
+    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
+                                                          r[6], r[7])});
+  const Motion motion = Motion::keyframes(frames, Motion::Type::Table);
+  Body_pair_tracker tracker(sheet, plane);
+  double worst = 0.0;
+  for (const auto& row : rows) {
+    const double t = row[0];
+    const Rigid_pose_3 X_WB = motion.pose_at(t);
+    const Pair_report& r = tracker.step(t, X_WA, Twist_3{}, X_WB, motion.twist_at(t), 0.02);
+    const Signed_distance_result ref = signed_distance(sheet, X_WA, plane, X_WB);
+    ASSERT_TRUE(ref.is_certified() && ref.overlap == Overlap_kind::None) << "t = " << t;
+    ASSERT_TRUE(r.lower_bound.has_value()) << "t = " << t;
+    // The row's certified bound holds, and a certified row is the distance.
+    EXPECT_LE(*r.lower_bound, ref.upper_bound * (1.0 + 1e-12)) << "t = " << t;
+    if (r.status != Pair_status::Uncertified) worst = std::max(worst, std::abs(r.distance - ref.distance));
+  }
+  EXPECT_LE(worst, 1e-6);
+}
+
 }  // namespace
 }  // namespace extremal

@@ -284,6 +284,83 @@ bool Depth_monitor::depth_pair(const Signed_distance_result& h, const Rigid_pose
   return true;
 }
 
+void Depth_monitor::drop_inside(double above) {
+  for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
+    const Live& L = m_live[static_cast<int>(k)];
+    if (L.alive && L.stepped != -1 && is_inside(L.regime) && L.result.distance < above)
+      m_live.kill(static_cast<int>(k));
+  }
+}
+
+namespace {
+
+// Gauss-Newton on f_A = f_B over primitives A and B from x (least-norm steps, clamped to their
+// domains): whether it ends on a point of both, within `tol` of each other.
+bool common_point(const Tracking_model& MA, int pa, const Rigid_pose_3& X_WA,
+                  const Tracking_model& MB, int pb, const Rigid_pose_3& X_WB, Vec4 x, double tol) {
+  const Feature& fa = MA.primitives()[pa].feature;
+  const Feature& fb = MB.primitives()[pb].feature;
+  const int na = fa.dimension(), n = na + fb.dimension();
+  const Parameter_domain domain = Parameter_domain::of(fa, fb);
+  Feature_point a, b;
+  for (int it = 0; it < k_common_point_steps; ++it) {
+    domain.clamp(x);
+    evaluate_feature(fa, X_WA, x.data(), a, 1);
+    evaluate_feature(fb, X_WB, x.data() + na, b, 1);
+    const Vec3 r = a.p - b.p;
+    if (r.norm() <= tol) return MA.contains(pa, x.data()) && MB.contains(pb, x.data() + na);
+    Eigen::Matrix<double, 3, 4> J = Eigen::Matrix<double, 3, 4>::Zero();
+    for (int k = 0; k < n; ++k) J.col(k) = k < na ? a.d[k] : Vec3(-b.d[k - na]);
+    const Vec4 step = J.completeOrthogonalDecomposition().solve(-r);
+    if (!step.allFinite()) return false;
+    x += step;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool Depth_monitor::open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
+                                       bool& seeded) {
+  seeded = false;
+  const Pair_context& c = m_context;
+  if (m_meets_at_valid && c.relative.rotation() == m_meets_at.rotation() &&
+      c.relative.translation() == m_meets_at.translation())
+    return m_meets;
+  m_meets_at = c.relative;
+  m_meets_at_valid = m_meets = true;
+  const double tol = c.options.contact_tolerance;
+  if (m_meet_pa >= 0 && common_point(*c.model_a, m_meet_pa, X_WA, *c.model_b, m_meet_pb, X_WB,
+                                     m_meet_params, tol))
+    return true;
+  m_meet_pa = -1;
+  const Distance_result g = m_solver.global(X_WA, X_WB);
+  if (g.status == Distance_status::Intersecting || g.status == Distance_status::Touching) {
+    m_meet_pa = c.model_a->primitive_of(g.kind_a, g.element_a);
+    m_meet_pb = c.model_b->primitive_of(g.kind_b, g.element_b);
+    if (m_meet_pa >= 0 && m_meet_pb >= 0) {
+      m_meet_params.setZero();
+      params_from_global(c.model_a->primitives()[m_meet_pa], g.params_a, m_meet_params.data());
+      params_from_global(c.model_b->primitives()[m_meet_pb], g.params_b,
+                         m_meet_params.data() + c.model_a->primitives()[m_meet_pa].feature.dimension());
+    } else {
+      m_meet_pa = -1;
+    }
+    return true;
+  }
+  const Overlap_test overlap = overlap_of(g, c.model_a->hierarchy(), X_WA, c.kind.closed(0),
+                                          c.model_b->hierarchy(), X_WB, c.kind.closed(1));
+  if (overlap.kind != Overlap_kind::None || overlap.unknown || !g.is_certified() ||
+      !(g.lower_bound > 0.0))
+    return true;  // (not shown apart: the trackers stand)
+  m_meets = false;
+  drop_inside(HUGE_VAL);
+  m_seeding.seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
+  m_checked = HUGE_VAL;
+  seeded = true;
+  return false;
+}
+
 bool Depth_monitor::shallower_pair(double best) {
   // (A step the pair holds nothing leaves its flag as it was: a pair flickering in and out of
   // holding does not trigger a check each time.)
@@ -307,11 +384,19 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     m_checked = HUGE_VAL;
     return false;
   }
+  // A penetrating row of bodies not both closed needs their surfaces meeting (or a closed one
+  // holding part of the other) at its step: two sheets passed through each other, or a solid
+  // past a sheet's border, are apart (tests Contact.TwoOpenSheetsPassedThroughEachOtherAreApartOnceOut,
+  // ProbeScenes.ASolidThroughASheetAndOutPastItsBorderIsApart).
+  if (!c.kind.solid_or_point(0) || !c.kind.solid_or_point(1)) {
+    bool seeded = false;
+    if (!open_pair_overlaps(X_WA, X_WB, seeded)) return seeded;
+  }
   // Inside the normal form's band the tracked pair is the one the bodies met at; deeper, a
   // saddle of the distance that outlives its being the depth (a ball through a larger one keeps
   // its entry pair, negative once out: Contact.DeepPassagesReportTheDepthAndLeaveApart). Two
-  // open sheets are never checked (a pair behind a sheet stays inside however far); a solid or a
-  // point against an open body is checked for coming apart only.
+  // open sheets have no depth to check (whether they still cross is decided above); a solid or
+  // a point against an open body is checked for coming apart only.
   const Live* deepest = nullptr;
   for (const Live& L : m_live.slots())
     if (L.alive && L.valid && L.result.distance == best) deepest = &L;
@@ -391,15 +476,6 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   const Distance_result g = m_solver.global(X_WA, X_WB);
   const Overlap_test overlap = overlap_of(g, c.model_a->hierarchy(), X_WA, c.kind.closed(0),
                                           c.model_b->hierarchy(), X_WB, c.kind.closed(1));
-  // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
-  // the ones just placed (not stepped yet).
-  auto drop_inside = [&](double above) {
-    for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
-      const Live& L = m_live[static_cast<int>(k)];
-      if (L.alive && L.stepped != -1 && is_inside(L.regime) && L.result.distance < above)
-        m_live.kill(static_cast<int>(k));
-    }
-  };
   if (overlap.kind == Overlap_kind::None) {
     if (overlap.unknown || !g.is_certified() || !(g.lower_bound > 0.0)) return false;
     drop_inside(HUGE_VAL);  // apart after all: the certified pair

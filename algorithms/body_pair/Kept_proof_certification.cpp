@@ -252,13 +252,15 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
     const int pa = key_a(C.key), pb = key_b(C.key);
     const Primitive& A = m_context.model_a->primitives()[pa];
     const Primitive& B = m_context.model_b->primitives()[pb];
-    // Pairs not watched or not certifiable: a converged tracked reading is the pair's minimum
-    // between convex bodies, and a closed form's is exact; otherwise the last certified bound,
-    // decayed, or the boxes.
-    // (A flat pair, or a flat primitive against a convex body, has one basin: its converged
-    // tracker reads its minimum. Test BodyScenes.FlatAgainstConvexPairsNeedNoWatch.)
-    bool one_basin = held && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance) &&
-                     m_live.is_converged(m_live[C.tracked_slot], k_converged_error);
+    // Pairs not watched or not certifiable: a tracked reading at a minimum of its pair over the
+    // domains (converged, and not held on a patch edge while the distance descends into the
+    // domain: Live_set::at_minimum) is the pair's minimum between convex bodies, and a closed
+    // form's is exact; otherwise the last certified bound, decayed, or the boxes.
+    // (A flat pair, or a flat primitive against a convex body, has one basin: its tracker at a
+    // minimum reads it. Tests BodyScenes.FlatAgainstConvexPairsNeedNoWatch,
+    // ProbeScenes.ASheetsEdgeHeldOnAPlanesCornerIsNoCertificate.)
+    const bool at_minimum = held && m_live.at_minimum(m_live[C.tracked_slot], k_converged_error);
+    bool one_basin = at_minimum && watch && m_context.flat_single_basin(pa, pb, C.tracked_distance);
     double tracked_lower = C.tracked_distance;
     // Two flat primitives neither a point (near parallel: the distance nearly constant, a
     // converged reading anywhere up to the faces' extent times their angle above the minimum):
@@ -269,8 +271,9 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
       tracked_lower = first_order_lower(m_live[C.tracked_slot].result, A, B, X_WA, X_WB);
       one_basin = tracked_lower >= need_apart;
     }
-    if ((held && (!watch || one_basin)) || !certifiable(pa, pb)) {
-      const bool exact = held && (!watch || one_basin || m_live[C.tracked_slot].closed_form);
+    if ((at_minimum && (!watch || one_basin)) || !certifiable(pa, pb)) {
+      const bool exact =
+          held && (m_live[C.tracked_slot].closed_form || (at_minimum && (!watch || one_basin)));
       double lower = exact ? (one_basin ? tracked_lower : C.tracked_distance)
                            : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
       if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
@@ -684,7 +687,9 @@ std::optional<double> Kept_proof_stage::locate_single_basin(Candidate& C, int pa
   const Track_result& r =
       tracker.step(m_context.t, *m_context.X_WA, rest, *m_context.X_WB, rest, m_context.dt);
   params = r.params;
-  if (r.degeneracy != Degeneracy::None || !(r.distance > m_context.options.contact_tolerance))
+  // (Held on a patch edge while the distance descends into the domain: no stationary point.)
+  if (r.degeneracy != Degeneracy::None || !(r.distance > m_context.options.contact_tolerance) ||
+      descends_from_edge(A.feature, B.feature, r, k_locate_converged))
     return std::nullopt;
   for (int k = 0; k < n; ++k)
     if (!(r.on_edge & (1u << k)) && !(std::abs(r.normalised_errors[k]) <= k_locate_converged))

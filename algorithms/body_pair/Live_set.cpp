@@ -142,10 +142,33 @@ bool is_converged_along_free(const Pair_context& context, const Live& L, double 
   return true;
 }
 
+bool descends_from_edge(const Feature& fa, const Feature& fb, const Track_result& r, double limit) {
+  if (!r.on_edge || !(r.distance > 0.0)) return false;
+  // d = f_A - f_B: the distance's derivative along A's parameter k has the sign of d . t_k,
+  // along B's of -d . t_k. Held on a lower bound it must not be negative, on an upper one not
+  // positive.
+  const int na = fa.dimension();
+  for (int k = 0; k < na + fb.dimension(); ++k) {
+    if (!(r.on_edge & (1u << k))) continue;
+    const Feature& f = k < na ? fa : fb;
+    const int j = k < na ? k : k - na;
+    const double slope = (k < na ? 1.0 : -1.0) * r.normalised_errors[k];
+    const bool lower = r.params[k] - f.lower(j) < f.upper(j) - r.params[k];
+    if (lower ? slope < -limit : slope > limit) return true;
+  }
+  return false;
+}
+
+bool at_constrained_minimum(const Pair_context& context, const Live& L, double limit) {
+  return is_converged_along_free(context, L, limit) &&
+         !descends_from_edge(context.primitive(0, L.pa).feature, context.primitive(1, L.pb).feature,
+                             L.result, limit);
+}
+
 bool Live_set::tracks_converged(int pa, int pb) const {
   for (const Live& L : m_live)
     if (L.alive && L.valid && !L.closed_form && L.pa == pa && L.pb == pb &&
-        is_converged(L, k_converged_error))
+        at_minimum(L, k_converged_error))
       return true;
   return false;
 }

@@ -144,6 +144,17 @@ bool edge_crosses_surface(const Primitive& A, const Rigid_pose_3& XA, const Prim
 }
 
 
+// The side (0 A, 1 B) whose outward normal gives a tracker's reading its sign, as
+// Extremal_tracker::signed_distance takes it: a surface side not held on a patch edge, B's
+// first with sign_from_b; -1: neither (the reading is |d|).
+int sign_side(const Primitive& A, const Primitive& B, unsigned on_edge, bool sign_from_b) {
+  const int na = A.feature.dimension();
+  const bool b_free = B.is_surface() && !((on_edge >> na) & 3u);
+  if (sign_from_b && b_free) return 1;
+  if (A.is_surface() && !(on_edge & 3u)) return 0;
+  return b_free ? 1 : -1;
+}
+
 // ---- The rules -------------------------------------------------------------------------------
 // Each states what a reading that holds satisfies; docs/behaviour.md names the situations and
 // tests (tests/test_reading_rules.cpp applies each to a synthetic reading).
@@ -300,17 +311,27 @@ void judge(Live& L, bool first, Pair_context& context) {
   const Primitive& A = context.primitive(0, L.pa);
   const Primitive& B = context.primitive(1, L.pb);
   const Reading reading{L, A, B, context};
-  const double d = L.result.distance;
   // Behind an open sheet: a tracker seeded apart whose first reading is inside (the sheet's
   // normal points away from the other body) did not come through contact, and stays so until
-  // it reads the pair in front (test Contact.AnEllipsoidUnderAPlaneIsApart).
+  // it reads the pair in front (test Contact.AnEllipsoidUnderAPlaneIsApart). Where its sign is
+  // an open body's normal, which has no inside, the pair is apart and reads its distance,
+  // positive (tests Contact.TwoOpenSheetsPassedThroughEachOtherAreApartOnceOut,
+  // ProbeScenes.ASolidThroughASheetAndOutPastItsBorderIsApart).
   Provenance& p = L.provenance;
-  if (d > 0.0 && p == Provenance::Behind_sheet)
+  if (L.result.distance > 0.0 && p == Provenance::Behind_sheet)
     p = Provenance::Unreached;
   else if (first && p == Provenance::Seeded_apart && is_inside(L.regime) &&
            !context.kind.both_closed())
     p = Provenance::Behind_sheet;
   if (p == Provenance::Seeded_apart) p = Provenance::Unreached;  // (read now)
+  const int signed_by = sign_side(A, B, L.result.on_edge, context.options.tracker.sign_from_b);
+  if (p == Provenance::Behind_sheet && L.result.distance < 0.0 && signed_by >= 0 &&
+      !context.kind.closed(signed_by)) {
+    L.result.distance = -L.result.distance;
+    L.result.normal = -L.result.normal;
+    L.regime = Regime::Apart;
+  }
+  const double d = L.result.distance;
   Reading_rule rejected = Reading_rule::None;
   std::size_t next = 0;
   for (; next < k_before_contact_rules && rejected == Reading_rule::None; ++next)

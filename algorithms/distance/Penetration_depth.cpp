@@ -747,6 +747,28 @@ Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& 
     if (unknown || (!out.is_certified() && !(r.lower_bound > 0.0)))
       out.lower_bound = std::min(out.lower_bound, signed_box_bound(transformed(HA.box(), X_WA),
                                                                    transformed(HB.box(), X_WB)));
+  } else if ((overlap == Overlap_kind::A_inside_B && A.is_point) ||
+             (overlap == Overlap_kind::B_inside_A && B.is_point)) {
+    // A point inside a closed body is as deep as its distance to the surface, the translation
+    // that takes it out: minus the certified distance, with its bounds (not the hull's depth,
+    // deeper in a non-convex body). Test PenetrationDepth.PointInsideANonConvexPartIsItsDistanceToTheSurface.
+    out.status = r.is_certified() ? Signed_distance_status::Penetrating : from_distance_status(r.status);
+    out.distance = -r.distance;
+    out.lower_bound = -r.upper_bound;
+    out.upper_bound = -r.lower_bound;
+    out.point_a = r.point_a;
+    out.point_b = r.point_b;
+    out.normal = -r.normal;  // (point_b - point_a = distance * normal)
+    out.kind_a = r.kind_a;
+    out.kind_b = r.kind_b;
+    out.element_a = r.element_a;
+    out.element_b = r.element_b;
+    out.face_a = r.face_a;
+    out.face_b = r.face_b;
+    out.params_a = r.params_a;
+    out.params_b = r.params_b;
+    out.tolerance_used = r.tolerance_used;
+    out.depth_is_translation_distance = true;
   } else {
     Signed_distance_request depth = request;
     depth.max_seconds = budget.limit_for(request.max_seconds);

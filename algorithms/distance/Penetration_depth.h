@@ -21,6 +21,9 @@
 //     from 0 to minus the depth of the part's hull). `depth_is_translation_distance` says which
 //     one holds: it is set only when both bodies are certified convex (a point, or a single
 //     untrimmed sphere or ellipsoid face).
+//   - A point inside a closed body: s = minus its certified distance to the body's surface,
+//     the minimum translation distance (depth_is_translation_distance), whatever the body's
+//     shape; the witnesses and bounds are that distance's.
 //
 // Certificate of the depth. For any unit n, certified upper bounds on h come from the control
 // points of the Bezier pieces (a rational piece with positive weights lies in the convex hull

@@ -37,6 +37,8 @@ class Depth_monitor {
   void reset() {
     m_checked = HUGE_VAL;
     m_sheet_side = Vec3::Zero();
+    m_meet_pa = -1;
+    m_meets_at_valid = false;
   }
   // After each step's answer: a solid against an open body keeps the side it is on while they
   // are apart or in contact (the answer's normal, in A's frame), the side it enters by.
@@ -70,6 +72,14 @@ class Depth_monitor {
   // depth (they are the pair) or that solve fails.
   bool depth_pair(const Signed_distance_result& h, const Rigid_pose_3& X_WA,
                   const Rigid_pose_3& X_WB, int& pa, int& pb, Vec4& params);
+  // Bodies not both closed (or points) overlap only while their surfaces meet, or a closed one
+  // holds part of the other: whether they still do at this step (a common point found again
+  // from the last one, else the certified solve). Apart, the penetrating trackers go and the
+  // certified pair is tracked (`seeded`). Once per relative pose.
+  bool open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, bool& seeded);
+  // The penetrating trackers deeper than `above` (valid or not: they may come back), but not
+  // the ones just placed (not stepped yet), go.
+  void drop_inside(double above);
   // Moves a penetration seed on pair (pa, pb) (unit `n` from A to B, `depth` < 0) to the most
   // central pair of the same depth when it lies on a continuum of them, on its faces or on
   // faces beside its witnesses.
@@ -91,6 +101,12 @@ class Depth_monitor {
   // A solid against an open body: the normal of the last report that read them apart or in
   // contact, in A's frame (zero: none since the start).
   Vec3 m_sheet_side = Vec3::Zero();
+  // The last common point of the surfaces found (primitives and parameters; m_meet_pa < 0:
+  // none), and the relative pose open_pair_overlaps last decided at.
+  int m_meet_pa = -1, m_meet_pb = -1;
+  Vec4 m_meet_params = Vec4::Zero();
+  Rigid_pose_3 m_meets_at;
+  bool m_meets_at_valid = false, m_meets = false;
 };
 
 }  // namespace extremal::internal

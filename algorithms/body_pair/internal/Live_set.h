@@ -55,6 +55,15 @@ inline bool holds_unreached(const Live& L) {
 // Whether slot L's normalised projection errors are within `limit` along every parameter not
 // held on a domain bound (one held there keeps the crease's projection error).
 bool is_converged_along_free(const Pair_context& context, const Live& L, double limit);
+// Whether reading r of features fa and fb, apart, descends into their domains along a
+// parameter held on a patch edge (Track_result::on_edge): the distance's derivative along it,
+// as its normalised projection error gives it, points inward past `limit`. Such a reading is a
+// minimum of the side or corner it is held on, not of the pair: the pair's minimum lies lower
+// (test ProbeScenes.ASheetsEdgeHeldOnAPlanesCornerIsNoCertificate).
+bool descends_from_edge(const Feature& fa, const Feature& fb, const Track_result& r, double limit);
+// Whether slot L's reading is a local minimum of its pair's distance over the two domains:
+// converged along its free parameters, and apart not descending from an edge it is held on.
+bool at_constrained_minimum(const Pair_context& context, const Live& L, double limit);
 
 class Live_set {
  public:
@@ -90,7 +99,11 @@ class Live_set {
   bool is_converged(const Live& L, double limit) const {
     return is_converged_along_free(m_context, L, limit);
   }
-  // A live slot on (pa, pb) whose witnesses lie on the bodies, converged.
+  bool at_minimum(const Live& L, double limit) const {
+    return at_constrained_minimum(m_context, L, limit);
+  }
+  // A live slot on (pa, pb) whose witnesses lie on the bodies, at a minimum of its pair
+  // (at_constrained_minimum).
   bool tracks_converged(int pa, int pb) const;
 
   // The live slots' (key, slot), sorted by key then slot; good until the next add or

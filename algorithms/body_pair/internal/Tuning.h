@@ -206,6 +206,10 @@ constexpr double k_deep_motion_steps = 10.0;
 // bodies moved this fraction of the size since the last check. Shown by
 // Contact.ABallThroughAnOpenPlaneIsApartOnceOut.
 constexpr double k_sheet_motion = 1e-3;
+// Gauss-Newton steps of the search for the surfaces' common point again from the last one
+// (bodies not both closed, penetrating): past them, the certified solve decides. Shown by
+// Contact.TwoOpenSheetsPassedThroughEachOtherAreApartOnceOut.
+constexpr int k_common_point_steps = 8;
 // Sub-nets of each support query bounding a solid's width against a sheet: its lower bound is
 // a real point's, so a small budget can only make the check early. Shown by
 // SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningKeepsItsEntrySideUntilOut.
