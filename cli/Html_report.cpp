@@ -21,8 +21,8 @@ namespace {
 
 // The embedded glTF of the watched bodies may weigh this much (before base64, which adds a
 // third); past it the page embeds the worst pair's bodies only, and the 3D view of the other
-// pairs says so. It keeps a report well under 20 MB: as1's 153 pairs (18 bodies) embed 
-// all their bodies (bench/RESULTS.md, "HTML report").
+// pairs says so. So a report stays under 20 MB (as1's 18 bodies weigh 1.3 MB: bench/RESULTS.md,
+// "HTML report").
 constexpr std::size_t k_view_bytes = std::size_t{12} << 20;
 // Points each pair's curve keeps (Pair_series), so that a long run's plots stay small.
 constexpr long k_plot_points = 2000;

@@ -7,7 +7,8 @@
 // and #view-data (base64 binary glTF of the watched bodies in their body frames, nodes named
 // body<i> after the scene's bodies, under a root node mapping scene units, z up, to glTF's
 // metres, y up). When the first pair is drawn, <html> gets data-view="drawn", data-ready-ms (the
-// time since the page started loading) and data-canvas (the canvas's box in page pixels).
+// time since the page started loading) and data-canvas (the canvas's box in page pixels);
+// data-selected is the selected pair's index in the scene.
 (function () {
   'use strict';
   var data = JSON.parse(document.getElementById('report-data').textContent);
@@ -103,23 +104,29 @@
       node.traverse(function (o) { if (o.isMesh) o.material = m; });
     });
     frame.updateMatrixWorld(true);
-    var box = new THREE.Box3();
-    box.expandByObject(nodes[pair.a]);
-    box.expandByObject(nodes[pair.b]);
-    var target = new THREE.Vector3();
+    var boxA = new THREE.Box3().setFromObject(nodes[pair.a]);
+    var boxB = new THREE.Box3().setFromObject(nodes[pair.b]);
     var ends = [];
     if (pair.witness) {
       ends = pair.witness.map(function (p) {
         return frame.localToWorld(new THREE.Vector3(p[0], p[1], p[2]));
       });
-      ends.forEach(function (v) { box.expandByPoint(v); });
-      target.addVectors(ends[0], ends[1]).multiplyScalar(0.5);
-    } else {
-      box.getCenter(target);
     }
-    var sphere = new THREE.Sphere();
-    box.getBoundingSphere(sphere);
-    var radius = Math.max(sphere.radius + target.distanceTo(sphere.center), 1e-9);
+    // The view holds both bodies, or, when one is far larger, the smaller one and the witness
+    // with some of the larger around them (zoom out for the rest).
+    var small = boxA.getSize(new THREE.Vector3()).length() <=
+                boxB.getSize(new THREE.Vector3()).length() ? boxA.clone() : boxB.clone();
+    var both = boxA.clone().union(boxB);
+    ends.forEach(function (v) { small.expandByPoint(v); both.expandByPoint(v); });
+    var target = new THREE.Vector3();
+    if (ends.length) target.addVectors(ends[0], ends[1]).multiplyScalar(0.5);
+    else small.getCenter(target);
+    function reach(box) {  // the radius about the target of a sphere holding the box
+      var sphere = new THREE.Sphere();
+      box.getBoundingSphere(sphere);
+      return sphere.radius + target.distanceTo(sphere.center);
+    }
+    var radius = Math.max(Math.min(reach(both), 3 * reach(small)), 1e-9);
     marks = new THREE.Group();
     if (ends.length) {
       var red = new THREE.LineBasicMaterial({color: witnessColour});
@@ -155,6 +162,7 @@
     selected = k;
     showRow(k);
     if (frame) showPair(k);
+    root.setAttribute('data-selected', String(k));
   }
 
   function markDrawn() {
