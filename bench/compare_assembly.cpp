@@ -76,7 +76,7 @@ double micros_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
 }
 
-// Nearest rank, as the CLI's step-time summary (cli/Step_times): the ceil(p n / 100)-th smallest.
+// Nearest rank, as the CLI's step-time summary (algorithms/scene/Step_times): the ceil(p n / 100)-th smallest.
 double percentile(std::vector<double> v, int percent) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   std::sort(v.begin(), v.end());
@@ -167,7 +167,7 @@ Stepped_case step_case(const Assembly& as, const Pass_case& c, double rate, doub
     }
     for (std::size_t k = 0; k < pairs.size(); ++k) statistics.push_back(stepper.statistics(k));
   } else {
-    // As `extremal report` runs a scene (cli/Scene_run): one stepper per pair, each pair
+    // As `extremal report` runs a scene (Scene_stepper::run): each pair, each pair
     // through all its steps in turn, a scene step's time the sum of its pairs' times there.
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       Scene_stepper stepper({bodies[static_cast<std::size_t>(pairs[k].first)], bodies.back()},

@@ -37,8 +37,14 @@ struct Report_options {
   int every = 1;                  // --every N: the rows of steps k % N == 0 and the last step
   // --tolerance A, --relative-tolerance R: every scene's error budget (its "tolerance" key).
   std::optional<double> tolerance, relative_tolerance;
+  // --clearance D: every scene's clearance (its "clearance" key), the `clearance` class's bound.
+  std::optional<double> clearance;
+  // --fail-on LEVEL: "clash", "contact" or "clearance"; empty: no check. Exit 3 when a pair's
+  // class, or the most severe class it leaves open, reaches LEVEL (docs/cli.md).
+  std::string fail_on;
   bool quiet = false;
 };
+// 0, 1 (bad input), 3 (a --fail-on check failed).
 int run_report(const Report_options& options);
 
 struct Tessellate_options {

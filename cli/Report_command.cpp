@@ -1,5 +1,6 @@
-// `extremal report SCENE.json... [-o OUT.csv|OUT.json] [--plot OUT.svg] [--snapshot OUT.glb
-// --at T] [--threads N] [--every N] [--quiet]`: batch distance reports over time (docs/cli.md).
+// `extremal report SCENE.json... [-o OUT.csv|OUT.json|OUT.html] [--plot OUT.svg] [--snapshot
+// OUT.glb --at T] [--clearance D] [--fail-on LEVEL] [--threads N] [--every N] [--quiet]`: batch
+// distance reports over time (docs/cli.md).
 #include <unistd.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "cli/Commands.h"
+#include "cli/Html_report.h"
 #include "cli/Progress_bar.h"
 #include "io/Report_plot.h"
 #include "algorithms/scene/Report_rows.h"
@@ -76,8 +78,9 @@ void write_snapshot(const io::Scene& scene, const std::string& path, double t,
   io::write_snapshot_glb(path, bodies, segments, options);
 }
 
-void run_one(const io::Scene& scene, Scene_stepper& run, const Scene_outputs& out,
-             const Report_options& options, bool batch, bool first) {
+std::vector<io::Pair_summary> run_one(const io::Scene& scene, Scene_stepper& run,
+                                      const Scene_outputs& out, const Report_options& options,
+                                      bool batch, bool first) {
   std::unique_ptr<std::ofstream> file;
   std::ostream* stream = &std::cout;
   if (!out.report.empty()) {
@@ -85,8 +88,11 @@ void run_one(const io::Scene& scene, Scene_stepper& run, const Scene_outputs& ou
     if (!*file) throw Invalid_input(out.report + ": cannot open for writing");
     stream = file.get();
   }
+  std::unique_ptr<Html_report> page;  // -o OUT.html: the page, after the run; no rows
+  if (ends_with(out.report, ".html")) page = std::make_unique<Html_report>(scene);
   std::unique_ptr<Report_writer> writer =
-      ends_with(out.report, ".json")
+      page ? make_null_writer()
+      : ends_with(out.report, ".json")
           ? make_json_writer(*stream, scene)
           : make_csv_writer(*stream, first || !out.report.empty(),
                             batch && out.report.empty() ? scene.path : std::string());
@@ -105,6 +111,7 @@ void run_one(const io::Scene& scene, Scene_stepper& run, const Scene_outputs& ou
 
   run_scene(scene, run, [&](int step, double t, const std::vector<Pair_report>& reports) {
     rows.add(t, reports);
+    if (page) page->add(step, t, reports);
     for (std::size_t k = 0; k < series.size(); ++k) {
       const bool farther = clearance_state(reports[k].status) == io::Clearance_state::Farther;
       series[k].add(t, farther ? std::nan("") : reports[k].distance);
@@ -116,13 +123,17 @@ void run_one(const io::Scene& scene, Scene_stepper& run, const Scene_outputs& ou
 
   const Report_timing timing = report_timing(run.step_times_us(), run.audit_times_us());
   const std::vector<io::Pair_summary> result = rows.finish(timing);
+  if (page) {
+    file.reset();  // the page is written whole, in place of the empty stream
+    page->write(out.report, result, timing);
+  }
   if (file && !*file) throw Invalid_input(out.report + ": write failed");
   for (auto& s : series) s.finish();
   if (!out.plot.empty()) report_plot(scene, series, result).write(out.plot);
   if (!out.snapshot.empty())
     write_snapshot(scene, out.snapshot, scene.time_of(snap_step), snap_reports);
 
-  if (options.quiet) return;
+  if (options.quiet) return result;
   std::string written;
   for (const std::string* p : {&out.report, &out.plot, &out.snapshot})
     if (!p->empty()) written += (written.empty() ? "" : ", ") + *p;
@@ -130,6 +141,7 @@ void run_one(const io::Scene& scene, Scene_stepper& run, const Scene_outputs& ou
     written += " (snapshot at the nearest step, t = " + short_number(scene.time_of(snap_step)) + ")";
   // With the rows on stdout the summary goes to stderr, so stdout stays one clean CSV.
   print_summary(out.report.empty() ? std::cerr : std::cout, scene, written, result, timing);
+  return result;
 }
 
 }  // namespace
@@ -138,8 +150,18 @@ int run_report(const Report_options& options) {
   const char* const prefix = "extremal report: ";
   try {
     if (!options.output.empty() && !ends_with(options.output, ".csv") &&
-        !ends_with(options.output, ".json"))
-      throw Invalid_input("-o " + options.output + ": expected a file name ending in .csv or .json");
+        !ends_with(options.output, ".json") && !ends_with(options.output, ".html"))
+      throw Invalid_input("-o " + options.output +
+                          ": expected a file name ending in .csv, .json or .html");
+    std::optional<io::Clearance_class> fail_level;
+    if (!options.fail_on.empty()) {
+      fail_level = io::clearance_class_named(options.fail_on);
+      if (!fail_level || *fail_level == io::Clearance_class::Clear)
+        throw Invalid_input("--fail-on " + options.fail_on +
+                            ": expected clash, contact or clearance");
+    }
+    if (options.clearance && !(*options.clearance > 0.0 && std::isfinite(*options.clearance)))
+      throw Invalid_input("--clearance: must be a finite number > 0");
     if (options.threads < 1)
       throw Invalid_input("--threads " + std::to_string(options.threads) + ": must be at least 1");
     if (options.every < 1)  // main() checks it (exit 2); this guards other callers
@@ -151,6 +173,10 @@ int run_report(const Report_options& options) {
       scenes.push_back(io::read_scene(path, io::load_bodies));
       if (options.tolerance) scenes.back().tolerance.absolute = *options.tolerance;
       if (options.relative_tolerance) scenes.back().tolerance.relative = *options.relative_tolerance;
+      if (options.clearance) scenes.back().clearance = *options.clearance;
+      if (fail_level == io::Clearance_class::Clearance && !scenes.back().clearance)
+        throw Invalid_input(path + ": --fail-on clearance: no clearance to check against (give "
+                            "--clearance D, or the scene's \"clearance\")");
     }
     const bool batch = scenes.size() > 1;
     const std::vector<std::string> tags = report::scene_tags(options.scenes);
@@ -163,9 +189,26 @@ int run_report(const Report_options& options) {
       if (!outputs[i].snapshot.empty()) snapshot_step(scenes[i], options.snapshot_time);
       runs.push_back(scene_stepper(scenes[i], options.threads));
     }
-    for (std::size_t i = 0; i < scenes.size(); ++i)
-      run_one(scenes[i], *runs[i], outputs[i], options, batch, i == 0);
-    return 0;
+    std::vector<std::string> failing;  // "scene: A - B (class)"
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+      const std::vector<io::Pair_summary> summaries =
+          run_one(scenes[i], *runs[i], outputs[i], options, batch, i == 0);
+      for (std::size_t k = 0; fail_level && k < summaries.size(); ++k) {
+        const io::Clearance_verdict& v = summaries[k].clearance;
+        if (!io::fails(v, *fail_level)) continue;
+        const auto& [a, b] = scenes[i].pairs[k];
+        std::string why = io::to_string(v.verdict);
+        if (v.verdict == io::Clearance_class::Undecided)
+          why += std::string(": ") + io::to_string(v.range.possible) + " not ruled out";
+        failing.push_back(scenes[i].path + ": " + scenes[i].bodies[a].name + " - " +
+                          scenes[i].bodies[b].name + " (" + why + ")");
+      }
+    }
+    if (failing.empty()) return 0;
+    std::cerr << prefix << "--fail-on " << options.fail_on << ": " << failing.size() << " pair"
+              << (failing.size() == 1 ? "" : "s") << " at or past it:\n";
+    for (const auto& f : failing) std::cerr << "  " << f << "\n";
+    return 3;
   } catch (const Invalid_input& e) {
     std::cerr << prefix << e.what() << "\n";
     return 1;

@@ -75,11 +75,14 @@ int main(int argc, char** argv) {
       "batch: with -o/--plot/--snapshot each scene writes OUT.<stem>.<ext>, <stem> being the\n"
       "scene file's stem (or <k>-<stem> for every scene when two scenes share a stem, k its\n"
       "position); to stdout, one CSV header and a trailing 'scene' column.\n"
-      "Exit codes: 0 success, 1 bad input (message on stderr), 2 usage error.");
+      "Exit codes: 0 success, 1 bad input (message on stderr), 2 usage error, 3 a --fail-on\n"
+      "check failed (the pairs on stderr).");
   report_cmd->add_option("SCENE", report.scenes, "Scene file(s) (JSON, docs/cli.md)")
       ->required();
   report_cmd->add_option("-o,--output", report.output,
-                         "Write the report to OUT.csv or OUT.json (rows plus a summary per pair)");
+                         "Write the report to OUT.csv or OUT.json (rows plus a summary per pair), "
+                         "or OUT.html (a page: the summary with each pair's class, plots, a 3D "
+                         "view of the worst moment)");
   report_cmd->add_option("--plot", report.plot,
                          "Distance against time per pair as SVG, contact and penetration shaded");
   CLI::Option* snapshot_opt = report_cmd->add_option(
@@ -115,6 +118,15 @@ int main(int argc, char** argv) {
   CLI::Option* relative_tolerance_opt = report_cmd->add_option("--relative-tolerance", relative_tolerance,
                          "Error budget, relative to the distance (default 1e-9, or the scene's)")
       ->check(budget_check(true));
+  double clearance = 0.0;
+  CLI::Option* clearance_opt = report_cmd->add_option("--clearance", clearance,
+                         "Clearance D (scene units): pairs closer than D, not in contact, are of "
+                         "the class 'clearance' (default: the scene's \"clearance\" key, or none)")
+      ->check(CLI::PositiveNumber);
+  report_cmd->add_option("--fail-on", report.fail_on,
+                         "Exit 3 when a pair's class, or the most severe class its bounds leave "
+                         "open (undecided), is LEVEL or worse: clash, contact or clearance")
+      ->check(CLI::IsMember({"clash", "contact", "clearance"}));
   report_cmd->add_flag("--quiet", report.quiet, "No summary, no progress bar");
 
   extremal::cli::Tessellate_options tessellate;
@@ -156,6 +168,7 @@ int main(int argc, char** argv) {
   if (report_cmd->parsed()) {
     if (tolerance_opt->count()) report.tolerance = tolerance;
     if (relative_tolerance_opt->count()) report.relative_tolerance = relative_tolerance;
+    if (clearance_opt->count()) report.clearance = clearance;
     return extremal::cli::run_report(report);
   }
   if (tessellate_cmd->parsed()) return extremal::cli::run_tessellate(tessellate);

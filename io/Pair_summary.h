@@ -7,22 +7,9 @@
 #include <optional>
 #include <vector>
 
+#include "io/Clearance_class.h"
+
 namespace extremal::io {
-
-// The state of a row, from the report's status word.
-enum class Clearance_state {
-  Apart,        // tracked, apart (tracking, boundary, fallback)
-  Contact,      // |distance| within the contact tolerance
-  Penetrating,  // distance below minus the contact tolerance
-  Farther,      // beyond the threshold, not tracked: the distance is only a lower bound
-  Uncertified,  // apart, its certified lower bound short of the error budget
-};
-
-// A run of consecutive rows in one state: the times of its first and last row. An interval of
-// one row has start == end.
-struct Time_interval {
-  double start = 0.0, end = 0.0;
-};
 
 struct Pair_summary {
   int rows = 0;          // rows fed
@@ -42,6 +29,9 @@ struct Pair_summary {
   // when the pair never penetrated.
   std::optional<double> deepest_penetration;
   double deepest_time = 0.0;
+  // The pair's clearance class, from every row's bounds (io/Clearance_class.h); filled by the
+  // report (algorithms/scene/Report_rows), which knows the thresholds.
+  Clearance_verdict clearance;
 };
 
 class Pair_summary_builder {

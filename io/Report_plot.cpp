@@ -67,8 +67,21 @@ void Pair_series::finish() { flush(); }
 
 io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
                          const std::vector<io::Pair_summary>& summaries) {
+  std::vector<std::size_t> pairs(series.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) pairs[k] = k;
+  return report_plot(scene, series, summaries, pairs);
+}
+
+io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
+                         const std::vector<io::Pair_summary>& summaries,
+                         const std::vector<std::size_t>& pairs) {
   io::Svg_plot plot;
-  plot.title = std::filesystem::path(scene.path).filename().string() + ": distance over time";
+  std::string subject = std::filesystem::path(scene.path).filename().string();
+  if (pairs.size() == 1 && scene.pairs.size() > 1) {
+    const auto& [a, b] = scene.pairs[pairs[0]];
+    subject = scene.bodies[a].name + " - " + scene.bodies[b].name;
+  }
+  plot.title = subject + ": distance over time";
   plot.x_label = "time (s)";
   plot.y_label = "signed distance (" + scene.units + "; < 0: penetration depth)";
   // A row stands for its time step: intervals are widened by half a step each side so that a
@@ -88,7 +101,7 @@ io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>&
                    {"penetration", "#d62728", 0.3, {}, {}}};
   bool touches = false;
   double lowest = HUGE_VAL, highest = -HUGE_VAL;
-  for (std::size_t k = 0; k < series.size(); ++k) {
+  for (std::size_t k : pairs) {
     const auto& [a, b] = scene.pairs[k];
     const std::string name = scene.bodies[a].name + " - " + scene.bodies[b].name;
     io::Svg_series s;
@@ -113,7 +126,7 @@ io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>&
   }
   for (const Kind& kind : kinds) {
     std::string label = kind.name;
-    if (series.size() > 1 && !kind.runs.empty()) {
+    if (pairs.size() > 1 && !kind.runs.empty()) {
       label += " (";
       for (std::size_t i = 0; i < kind.pairs.size(); ++i)
         label += (i ? ", " : "") + kind.pairs[i];
@@ -123,7 +136,7 @@ io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>&
       plot.bands.push_back({std::max(t_first, r.start - half), std::min(t_last, r.end + half),
                             kind.colour, label, kind.opacity});
   }
-  plot.marker_label = series.size() == 1 ? "minimum" : "minimum of each pair";
+  plot.marker_label = pairs.size() == 1 ? "minimum" : "minimum of each pair";
   // The contact level, when the curves come near it (else it would squash them).
   if (touches || (lowest <= highest && lowest < 0.25 * (highest - lowest)))
     plot.rules.push_back({0.0, "contact (distance 0)"});

@@ -36,5 +36,9 @@ class Pair_series {
 
 io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
                          const std::vector<io::Pair_summary>& summaries);
+// The same for the listed pairs only (indices into scene.pairs, series and summaries).
+io::Svg_plot report_plot(const io::Scene& scene, const std::vector<Pair_series>& series,
+                         const std::vector<io::Pair_summary>& summaries,
+                         const std::vector<std::size_t>& pairs);
 
 }  // namespace extremal::io

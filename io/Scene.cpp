@@ -338,7 +338,8 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
     err.fail("", std::string("not valid JSON: ") + e.what());
   }
   if (!root.is_object()) err.fail("", "the scene must be a JSON object");
-  check_keys(root, "", {"units", "time", "bodies", "pairs", "threshold", "tracker", "tolerance"}, err);
+  check_keys(root, "", {"units", "time", "bodies", "pairs", "threshold", "tracker", "tolerance",
+                    "clearance"}, err);
   Scene scene;
   scene.path = path;
   const std::string folder = std::filesystem::path(path).parent_path().string();
@@ -468,6 +469,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
     }
   }
   if (root.contains("threshold")) scene.threshold = positive(root["threshold"], "threshold", err);
+  if (root.contains("clearance")) scene.clearance = positive(root["clearance"], "clearance", err);
   if (root.contains("tracker")) {
     const json& t = root["tracker"];
     if (!t.is_object()) err.fail("tracker", "expected an object");

@@ -49,6 +49,9 @@ struct Scene {
   std::vector<Scene_body> bodies;
   std::vector<std::pair<int, int>> pairs;  // indices into bodies
   std::optional<double> threshold;
+  // The scene's "clearance": pairs closer than it (and not in contact) are of the class
+  // `clearance` (io/Clearance_class.h); none: no such class.
+  std::optional<double> clearance;
   Tracker_settings tracker;
   Tolerance_settings tolerance;  // the scene's "tolerance": {"absolute", "relative"}
 

@@ -181,11 +181,11 @@ aiMaterial* material(const std::string& name, const aiColor4D& colour) {
   return m;
 }
 
-}  // namespace
-
-void write_snapshot_glb(const std::string& path, const std::vector<Snapshot_body>& bodies,
-                        const std::vector<Snapshot_segment>& segments,
-                        const Snapshot_options& options) {
+// The snapshot as an assimp scene; `path` names it in errors (the file, or "snapshot").
+std::unique_ptr<aiScene> snapshot_scene(const std::string& path,
+                                        const std::vector<Snapshot_body>& bodies,
+                                        const std::vector<Snapshot_segment>& segments,
+                                        const Snapshot_options& options) {
   for (std::size_t k = 0; k < bodies.size(); ++k)
     if (!bodies[k].body || bodies[k].name.empty())
       throw Invalid_input(path + ": snapshot body " + std::to_string(k) +
@@ -277,10 +277,32 @@ void write_snapshot_glb(const std::string& path, const std::vector<Snapshot_body
     scene->mRootNode->mChildren[k] = nodes[k];
   }
 
+  return scene;
+}
+
+}  // namespace
+
+void write_snapshot_glb(const std::string& path, const std::vector<Snapshot_body>& bodies,
+                        const std::vector<Snapshot_segment>& segments,
+                        const Snapshot_options& options) {
+  const std::unique_ptr<aiScene> scene = snapshot_scene(path, bodies, segments, options);
   Assimp::Exporter exporter;
   if (exporter.Export(scene.get(), "glb2", path) != aiReturn_SUCCESS)
     throw Invalid_input(path + ": assimp could not write the glTF snapshot (" +
                         exporter.GetErrorString() + ")");
+}
+
+std::string snapshot_glb(const std::vector<Snapshot_body>& bodies,
+                         const std::vector<Snapshot_segment>& segments,
+                         const Snapshot_options& options) {
+  const std::unique_ptr<aiScene> scene = snapshot_scene("snapshot", bodies, segments, options);
+  Assimp::Exporter exporter;
+  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "glb2");
+  if (!blob)
+    throw Invalid_input(std::string("snapshot: assimp could not make the glTF (") +
+                        exporter.GetErrorString() + ")");
+  // A binary glTF is one blob: its buffers are inside it.
+  return std::string(static_cast<const char*>(blob->data), blob->size);
 }
 
 }  // namespace extremal::io

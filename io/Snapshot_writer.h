@@ -46,4 +46,10 @@ void write_snapshot_glb(const std::string& path, const std::vector<Snapshot_body
                         const std::vector<Snapshot_segment>& segments,
                         const Snapshot_options& options = {});
 
+// The same snapshot as the bytes of a .glb file (to embed it: `extremal report -o OUT.html`).
+// Throws Invalid_input on a body without a name or null, or when assimp cannot make it.
+std::string snapshot_glb(const std::vector<Snapshot_body>& bodies,
+                         const std::vector<Snapshot_segment>& segments,
+                         const Snapshot_options& options = {});
+
 }  // namespace extremal::io

@@ -147,8 +147,9 @@ std::string Svg_plot::to_svg() const {
      << xml_escape(title) << "</text>\n";
 
   // Everything inside the plot area is clipped to it.
-  os << "<clipPath id=\"area\"><rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw
-     << "\" height=\"" << ph << "\"/></clipPath>\n<g clip-path=\"url(#area)\">\n";
+  os << "<clipPath id=\"" << clip_id << "\"><rect x=\"" << left << "\" y=\"" << top
+     << "\" width=\"" << pw << "\" height=\"" << ph << "\"/></clipPath>\n<g clip-path=\"url(#"
+     << clip_id << ")\">\n";
   for (const auto& r : rules) {
     if (!plotted(r.y)) continue;
     const double y = Y(ty(r.y));

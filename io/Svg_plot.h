@@ -40,6 +40,8 @@ struct Svg_plot {
   std::vector<Svg_marker> markers;
   std::string marker_label;  // one legend entry for all markers (none when empty)
   int width = 960, height = 540;
+  // The id of the plot area's clip path: unique per plot when several share one HTML page.
+  std::string clip_id = "area";
 
   std::string to_svg() const;
   // Throws Invalid_input naming the path if it cannot be written.

@@ -14,6 +14,8 @@ packages=(
   libfcl-dev
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest
   python3-dask python3-distributed
+  libjs-three  # three.js, OrbitControls, GLTFLoader: embedded in the HTML report by the build
+  chromium     # headless, opens the HTML report in its test (tests/browser)
 )
 # --fuzz: also clang and its libFuzzer runtime (scripts/run-fuzzers.sh; Debian's clang only
 # recommends the runtime package, and recommendations are not installed).

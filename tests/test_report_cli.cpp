@@ -817,7 +817,7 @@ TEST(ReportCli, SchemaErrorsNameTheJsonPathAndTheReason) {
       "bodies[1].motion.keyframes[1].t: times must increase");
   expect_scene_error(scene(two, R"(, "colour": "red")"),
                      "colour: unknown key (expected one of: units, time, bodies, pairs, threshold, "
-                     "tracker, tolerance)");
+                     "tracker, tolerance, clearance)");
   expect_scene_error(scene(two, R"(, "tolerance": {"absolute": 0})"), "tolerance.absolute: must be > 0");
   expect_scene_error(scene(two, R"(, "tolerance": {"relative": 1})"),
                      "tolerance.relative: must be > 0 and < 1");
@@ -971,7 +971,8 @@ TEST(ReportCli, BadSceneExitsOneAndNamesThePath) {
   EXPECT_EQ(run("report " + scene + " --bogus").exit_code, 2);
   const Cli_run bad_output = run("report " + scene + " -o out.txt");
   EXPECT_EQ(bad_output.exit_code, 1);
-  EXPECT_EQ(bad_output.err, "extremal report: -o out.txt: expected a file name ending in .csv or .json\n");
+  EXPECT_EQ(bad_output.err,
+            "extremal report: -o out.txt: expected a file name ending in .csv, .json or .html\n");
   EXPECT_EQ(run("--help").exit_code, 0);
   EXPECT_EQ(run("report --help").exit_code, 0);
 }

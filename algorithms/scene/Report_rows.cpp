@@ -31,6 +31,7 @@ Report_rows::Report_rows(const io::Scene& scene, Report_writer& writer, int ever
       m_writer(writer),
       m_every(every),
       m_summaries(scene.pairs.size()),
+      m_classes(scene.pairs.size(), io::Clearance_class_builder(clearance_thresholds(scene))),
       m_was_farther(scene.pairs.size(), false) {
   EXTREMAL_PRECONDITION_MSG(every >= 1, "every must be >= 1, got " << every);
 }
@@ -43,6 +44,7 @@ void Report_rows::add(double t, const std::vector<Pair_report>& reports) {
     const io::Clearance_state state = clearance_state(r.status);
     const bool farther = state == io::Clearance_state::Farther;
     m_summaries[k].add(t, r.distance, state);  // every step, written or not
+    m_classes[k].add(t, state, r.distance, r.lower_bound);
     if (!written) continue;
     if (!(farther && m_was_farther[k])) {
       const auto& [a, b] = m_scene.pairs[k];
@@ -55,7 +57,10 @@ void Report_rows::add(double t, const std::vector<Pair_report>& reports) {
 std::vector<io::Pair_summary> Report_rows::finish(const Report_timing& timing) {
   std::vector<io::Pair_summary> result;
   result.reserve(m_summaries.size());
-  for (const auto& s : m_summaries) result.push_back(s.summary());
+  for (std::size_t k = 0; k < m_summaries.size(); ++k) {
+    result.push_back(m_summaries[k].summary());
+    result.back().clearance = m_classes[k].verdict();
+  }
   m_writer.finish(result, timing);
   return result;
 }

@@ -32,8 +32,8 @@ class Report_rows {
   Report_rows(const io::Scene& scene, Report_writer& writer, int every = 1);
   // Steps come in order, one call each, scene.step_count() in all.
   void add(double t, const std::vector<Pair_report>& reports);
-  // After the last step: the summaries, one per scene pair, which the writer gets too, with
-  // the run's step times.
+  // After the last step: the summaries, one per scene pair, with their clearance classes,
+  // which the writer gets too, with the run's step times.
   std::vector<io::Pair_summary> finish(const Report_timing& timing);
 
  private:
@@ -42,6 +42,7 @@ class Report_rows {
   int m_every;
   int m_step = 0;  // the index of the next step add() gets
   std::vector<io::Pair_summary_builder> m_summaries;
+  std::vector<io::Clearance_class_builder> m_classes;  // per pair, every step
   std::vector<bool> m_was_farther;  // at the last written step
 };
 

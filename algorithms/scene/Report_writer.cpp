@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "algorithms/body_pair/Body_pair_options.h"
 #include "kernel/Error.h"
 
 namespace extremal::report {
@@ -68,6 +69,7 @@ class Json_writer final : public Report_writer {
         bodies.push_back({{"name", b.name}, {"file", b.source}});
     }
     nlohmann::json pairs = nlohmann::json::array();
+    const io::Clearance_thresholds thresholds = clearance_thresholds(scene);
     for (const auto& [a, b] : scene.pairs)
       pairs.push_back({scene.bodies[a].name, scene.bodies[b].name});
     m_out << "{\n\"scene\": " << nlohmann::json(scene.path).dump()
@@ -77,6 +79,9 @@ class Json_writer final : public Report_writer {
                              {"step", scene.step},
                              {"steps", scene.step_count()}})
                  .dump()
+          << ",\n\"contact_tolerance\": " << nlohmann::json(thresholds.contact).dump()
+          << ",\n\"clearance\": "
+          << (thresholds.clearance ? nlohmann::json(*thresholds.clearance) : nlohmann::json()).dump()
           << ",\n\"bodies\": " << bodies.dump() << ",\n\"pairs\": " << pairs.dump()
           << ",\n\"rows\": [";
   }
@@ -138,7 +143,34 @@ std::string intervals_text(const std::vector<io::Time_interval>& runs) {
   return os.str();
 }
 
+// "clash", or "undecided (clearance to contact)": the class and, undecided, its range.
+std::string class_text(const io::Clearance_verdict& v) {
+  std::string text = to_string(v.verdict);
+  if (v.verdict == io::Clearance_class::Undecided)
+    text += std::string(" (") + to_string(v.range.proven) + " to " + to_string(v.range.possible) + ")";
+  return text;
+}
+
+// "(contact within 1e-09, clearance below 2)".
+std::string thresholds_text(const io::Clearance_thresholds& t) {
+  return "(contact within " + short_number(t.contact) +
+         (t.clearance ? ", clearance below " + short_number(*t.clearance) : ", no clearance set") +
+         ")";
+}
+
 }  // namespace
+
+std::string class_counts_text(const std::vector<io::Pair_summary>& summaries) {
+  std::string text;
+  for (io::Clearance_class c : {io::Clearance_class::Clash, io::Clearance_class::Contact,
+                                io::Clearance_class::Clearance, io::Clearance_class::Undecided,
+                                io::Clearance_class::Clear}) {
+    long n = 0;
+    for (const auto& s : summaries) n += s.clearance.verdict == c;
+    if (n) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + to_string(c);
+  }
+  return text;
+}
 
 std::string csv_header(bool with_scene_column) {
   return std::string("t,body_a,body_b,distance,ax,ay,az,bx,by,bz,nx,ny,nz,face_a,face_b,status,"
@@ -172,6 +204,10 @@ io::Clearance_state clearance_state(Pair_status status) {
   }
 }
 
+io::Clearance_thresholds clearance_thresholds(const io::Scene& scene) {
+  return {Body_pair_options{}.contact_tolerance, scene.clearance};
+}
+
 std::unique_ptr<Report_writer> make_csv_writer(std::ostream& out, bool header,
                                                const std::string& scene_column) {
   return std::make_unique<Csv_writer>(out, header, scene_column);
@@ -184,7 +220,13 @@ std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Sce
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
                             const io::Pair_summary& s, const Step_time_stats& step_time,
                             const Step_time_stats& audit_time) {
-  nlohmann::json j = {{"body_a", body_a}, {"body_b", body_b}, {"rows", s.rows},
+  nlohmann::json j = {{"body_a", body_a},
+                      {"body_b", body_b},
+                      {"class", to_string(s.clearance.verdict)},
+                      {"class_range",
+                       {to_string(s.clearance.range.proven), to_string(s.clearance.range.possible)}},
+                      {"undecided", intervals_json(s.clearance.undecided)},
+                      {"rows", s.rows},
                       {"tracked_rows", s.tracked_rows}};
   j["min_distance"] = s.min_distance ? nlohmann::json(*s.min_distance) : nlohmann::json();
   j["min_time"] = s.min_distance ? nlohmann::json(s.min_time) : nlohmann::json();
@@ -213,11 +255,14 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
   out << "  step time of the scene (its pairs' together): " << step_time_text(timing.scene) << "\n";
   if (timing.audit_scene.max > 0.0)
     out << "  audits (apart from the step time): " << step_time_text(timing.audit_scene) << "\n";
+  out << "  classes " << thresholds_text(clearance_thresholds(scene)) << ": "
+      << class_counts_text(summaries) << "\n";
   for (std::size_t k = 0; k < summaries.size(); ++k) {
     const io::Pair_summary& s = summaries[k];
     const auto& [a, b] = scene.pairs[k];
     out << "  " << scene.bodies[a].name << " - " << scene.bodies[b].name << ": ";
-    const std::string step_time = "    step time: " + step_time_text(timing.pairs[k]) + "\n";
+    const std::string step_time = "    class: " + class_text(s.clearance) + "\n    step time: " +
+                                  step_time_text(timing.pairs[k]) + "\n";
     if (!s.min_distance) {
       out << "farther than the threshold " << short_number(scene.threshold.value_or(0.0))
           << " throughout\n"
@@ -239,6 +284,9 @@ void print_summary(std::ostream& out, const io::Scene& scene, const std::string&
     if (!s.uncertified.empty())
       out << "    uncertified (lower bound short of the error budget) " << intervals_text(s.uncertified)
           << "\n";
+    if (!s.clearance.undecided.empty())
+      out << "    undecided (a bound leaves the class open) "
+          << intervals_text(s.clearance.undecided) << "\n";
     out << step_time;
   }
 }

@@ -29,6 +29,10 @@ std::string format_number(double x);
 
 io::Clearance_state clearance_state(Pair_status status);
 
+// The thresholds of the clearance classes of a scene's pairs: the trackers' contact tolerance
+// and the scene's "clearance" (docs/cli.md, "Clearance classes").
+io::Clearance_thresholds clearance_thresholds(const io::Scene& scene);
+
 class Report_writer {
  public:
   virtual ~Report_writer() = default;
@@ -47,12 +51,16 @@ std::unique_ptr<Report_writer> make_csv_writer(std::ostream& out, bool header,
 // pair's "step_time_us" and "audit_time_us") and the scene's "step_time_us" and "audit_time_us".
 std::unique_ptr<Report_writer> make_json_writer(std::ostream& out, const io::Scene& scene);
 
-// A summary as JSON: {"body_a", "body_b", "rows", "min_distance", "min_time", "contact":
-// [[start, end], ...], "penetration": [...], "deepest_penetration", "deepest_time", "farther", "uncertified",
+// A summary as JSON: {"body_a", "body_b", "class", "class_range": [proven, possible],
+// "undecided": [...], "rows", "min_distance", "min_time", "contact": [[start, end], ...],
+// "penetration": [...], "deepest_penetration", "deepest_time", "farther", "uncertified",
 // "step_time_us": {"mean", "median", "p99", "max"}, "audit_time_us": {the same}}.
 nlohmann::json summary_json(const std::string& body_a, const std::string& body_b,
                             const io::Pair_summary& s, const Step_time_stats& step_time,
                             const Step_time_stats& audit_time);
+
+// "1 clash, 2 clear": how many pairs are of each class, the most severe first.
+std::string class_counts_text(const std::vector<io::Pair_summary>& summaries);
 
 // The readable summary of a scene run, a few lines per pair, with the step times.
 void print_summary(std::ostream& out, const io::Scene& scene, const std::string& written_to,
