@@ -45,11 +45,11 @@ struct Pair_at_rest {
       : body_a(std::move(a)), body_b(std::move(b)), X_WA(xa), X_WB(xb),
         context(std::make_shared<const Tracking_model>(body_a),
                 std::make_shared<const Tracking_model>(body_b), Body_pair_options()) {
-    context.X_WA = &X_WA;
-    context.X_WB = &X_WB;
-    context.V_A = context.V_B = &still;
-    context.relative = X_WA.inverse() * X_WB;
-    context.steps = 1;
+    context.now.X_WA = &X_WA;
+    context.now.X_WB = &X_WB;
+    context.now.V_A = context.now.V_B = &still;
+    context.now.relative = X_WA.inverse() * X_WB;
+    context.now.steps = 1;
   }
   // The first face primitive of a body (side 0 A, 1 B).
   int face(int side) const {

@@ -120,7 +120,7 @@ void Depth_monitor::centre_depth_seed(int& pa, int& pb, const Rigid_pose_3& X_WA
 template <class Result>
 void Depth_monitor::keep_solved(const Result& r, double sign) {
   Solved& s = m_solved;
-  s.step = m_context.steps;
+  s.step = m_context.now.steps;
   s.distance = sign * r.distance;
   s.lower_bound = -HUGE_VAL;
   s.point_a = r.point_a;
@@ -324,10 +324,10 @@ bool Depth_monitor::open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pos
                                        bool& seeded) {
   seeded = false;
   const Pair_context& c = m_context;
-  if (m_meets_at_valid && c.relative.rotation() == m_meets_at.rotation() &&
-      c.relative.translation() == m_meets_at.translation())
+  if (m_meets_at_valid && c.now.relative.rotation() == m_meets_at.rotation() &&
+      c.now.relative.translation() == m_meets_at.translation())
     return m_meets;
-  m_meets_at = c.relative;
+  m_meets_at = c.now.relative;
   m_meets_at_valid = m_meets = true;
   const double tol = c.options.contact_tolerance;
   if (m_meet_pa >= 0 && common_point(*c.model_a, m_meet_pa, X_WA, *c.model_b, m_meet_pb, X_WB,
@@ -436,14 +436,14 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   // the centres, not the boxes' bound, so a shaft turning in its bore is not checked again).
   const double moved_by =
       std::isfinite(m_checked)
-          ? approach_bound(c.model_a->box(), c.model_b->box(), m_checked_at, c.relative).closer
+          ? approach_bound(c.model_a->box(), c.model_b->box(), m_checked_at, c.now.relative).closer
           : HUGE_VAL;
   bool moved = point && std::isfinite(m_checked) && moved_by > step;
   if (!point && !against_sheet && std::isfinite(m_checked)) {
     const Vec3 cb = box_centre(c.model_b->box()), ca = box_centre(c.model_a->box());
-    const double b_moved = (c.relative.apply_point(cb) - m_checked_at.apply_point(cb)).norm();
+    const double b_moved = (c.now.relative.apply_point(cb) - m_checked_at.apply_point(cb)).norm();
     const double a_moved =
-        (c.relative.inverse().apply_point(ca) - m_checked_at.inverse().apply_point(ca)).norm();
+        (c.now.relative.inverse().apply_point(ca) - m_checked_at.inverse().apply_point(ca)).norm();
     moved = std::max(a_moved, b_moved) > k_deep_motion_steps * step;
   }
   // A solid against a sheet comes apart in one step with a jump of the local depth: checked
@@ -458,8 +458,8 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     past_sheet = -best >= box_support(box, n) + box_support(box, -n);
   }
   const bool moved_since = !std::isfinite(m_checked) ||
-                           c.relative.rotation() != m_checked_at.rotation() ||
-                           c.relative.translation() != m_checked_at.translation();
+                           c.now.relative.rotation() != m_checked_at.rotation() ||
+                           c.now.relative.translation() != m_checked_at.translation();
   if (against_sheet && !point && !past_sheet && moved_since) {
     const Distance_hierarchy& S = c.model(solid_a ? 0 : 1).hierarchy();
     const Rigid_pose_3& X = solid_a ? X_WA : X_WB;
@@ -472,7 +472,7 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   }
   if (!(best < m_checked - step) && !moved && !past_sheet && !force && !witness_out) return false;
   m_checked = best;
-  m_checked_at = c.relative;
+  m_checked_at = c.now.relative;
   const Distance_result g = m_solver.global(X_WA, X_WB);
   const Overlap_test overlap = overlap_of(g, c.model_a->hierarchy(), X_WA, c.kind.closed(0),
                                           c.model_b->hierarchy(), X_WB, c.kind.closed(1));

@@ -121,7 +121,7 @@ void Kept_proof_stage::mark_tracked() {
 
 bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
   mark_tracked();
-  m_queue_dirty = m_queue_all_due = true;  // (every candidate is checked at the next step apart)
+  m_queues.dirty = m_queues.all_due = true;  // (every candidate is checked at the next step apart)
   bool seeded = false;
   for (Candidate& C : m_candidates) {
     if (C.tracked) continue;
@@ -134,14 +134,14 @@ bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pos
       if (!(C.seeded_lower < HUGE_VAL)) continue;
       const Approach moved = approach_bound(m_context.model_a->primitives()[pa].box,
                                             m_context.model_b->primitives()[pb].box, C.seeded_at,
-                                            m_context.relative);
+                                            m_context.now.relative);
       if (C.seeded_lower - moved.closer > m_context.options.contact_tolerance) continue;
     }
     C.contact_seeded = true;
     const double lower = m_seeding.seed_pair(pa, pb, X_WA, X_WB);
     // (Seeded in contact, or without a certificate: not again until the broad phase renews it.)
     C.seeded_lower = lower > m_context.options.contact_tolerance ? lower : HUGE_VAL;
-    C.seeded_at = m_context.relative;
+    C.seeded_at = m_context.now.relative;
     seeded = true;
   }
   return seeded;
@@ -149,12 +149,12 @@ bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pos
 
 void Kept_proof_stage::forget_proofs(Candidate& C, double lower) {
   C.lower = lower;
-  C.at = m_context.relative;
+  C.at = m_context.now.relative;
   C.reach = {HUGE_VAL, HUGE_VAL};
-  C.reach_at = m_context.relative;
+  C.reach_at = m_context.now.relative;
   C.carried = {0u, 0u};
-  m_kept_proof_total -= C.proof_count;
-  m_kept_bound_total -= C.bound_count;
+  m_kept.proof_total -= C.proof_count;
+  m_kept.bound_total -= C.bound_count;
   C.proof_count = C.bound_count = C.solve_count = 0;
 }
 
@@ -164,7 +164,7 @@ void Kept_proof_stage::queue(Candidate& C, double lower) {
   // Stale entries (a candidate queued again) go once they outnumber the candidates, in place:
   // the queues keep their capacity.
   const std::size_t most = queue_capacity();
-  for (std::vector<Queue_entry>* heap : {&m_bound_queue, &m_reach_queue}) {
+  for (std::vector<Queue_entry>* heap : {&m_queues.bound, &m_queues.reach}) {
     if (heap->size() < most) continue;
     heap->erase(std::remove_if(heap->begin(), heap->end(),
                                [&](const Queue_entry& e) {
@@ -178,38 +178,38 @@ void Kept_proof_stage::queue(Candidate& C, double lower) {
   // Test BodyScenes.APairLocatedOffItsPrimitivesIsCheckedAgain.)
   if (!(lower < HUGE_VAL))
     lower = box_distance(m_context.model_a->primitives()[key_a(C.key)].box,
-                         transformed(m_context.model_b->primitives()[key_b(C.key)].box, m_context.relative));
-  C.bound_key = lower + m_moved;
+                         transformed(m_context.model_b->primitives()[key_b(C.key)].box, m_context.now.relative));
+  C.bound_key = lower + m_queues.moved;
   C.reach_key = HUGE_VAL;
-  m_bound_queue.push_back({C.bound_key, index, C.generation});
-  std::push_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
+  m_queues.bound.push_back({C.bound_key, index, C.generation});
+  std::push_heap(m_queues.bound.begin(), m_queues.bound.end(), Queue_order());
   if (!(C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL)) return;
   const Approach since = approach_bound(m_context.model_a->primitives()[key_a(C.key)].box,
                                         m_context.model_b->primitives()[key_b(C.key)].box,
-                                        C.reach_at, m_context.relative);
+                                        C.reach_at, m_context.now.relative);
   const double left = std::min(C.reach[0] - since.move_b, C.reach[1] - since.move_a);
-  C.reach_key = m_moved + std::max(left, 0.0);
-  m_reach_queue.push_back({C.reach_key, index, C.generation});
-  std::push_heap(m_reach_queue.begin(), m_reach_queue.end(), Queue_order());
+  C.reach_key = m_queues.moved + std::max(left, 0.0);
+  m_queues.reach.push_back({C.reach_key, index, C.generation});
+  std::push_heap(m_queues.reach.begin(), m_queues.reach.end(), Queue_order());
 }
 
 void Kept_proof_stage::requeue_all(bool all_due) {
-  m_bound_queue.clear();
-  m_reach_queue.clear();
+  m_queues.bound.clear();
+  m_queues.reach.clear();
   // (At most queue_capacity() entries each: a steady step never grows them.)
-  m_bound_queue.reserve(queue_capacity() + 1);
-  m_reach_queue.reserve(queue_capacity() + 1);
-  m_queue_kept.reserve(queue_capacity() + 1);
+  m_queues.bound.reserve(queue_capacity() + 1);
+  m_queues.reach.reserve(queue_capacity() + 1);
+  m_scratch.queue_kept.reserve(queue_capacity() + 1);
   for (std::size_t i = 0; i < m_candidates.size(); ++i) {
     Candidate& C = m_candidates[i];
     if (all_due) C.bound_key = -HUGE_VAL, C.reach_key = HUGE_VAL;
     const int index = static_cast<int>(i);
-    m_bound_queue.push_back({C.bound_key, index, ++C.generation});
-    if (C.reach_key < HUGE_VAL) m_reach_queue.push_back({C.reach_key, index, C.generation});
+    m_queues.bound.push_back({C.bound_key, index, ++C.generation});
+    if (C.reach_key < HUGE_VAL) m_queues.reach.push_back({C.reach_key, index, C.generation});
   }
-  std::make_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
-  std::make_heap(m_reach_queue.begin(), m_reach_queue.end(), Queue_order());
-  m_queue_dirty = m_queue_all_due = false;
+  std::make_heap(m_queues.bound.begin(), m_queues.bound.end(), Queue_order());
+  std::make_heap(m_queues.reach.begin(), m_queues.reach.end(), Queue_order());
+  m_queues.dirty = m_queues.all_due = false;
 }
 
 Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
@@ -220,7 +220,7 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
   // seeding request's, at most a quarter of the budget so that every cutoff has room above
   // `need` (k_seeding_slack).
   const Body_pair_options& o = m_context.options;
-  const Error_budget& b = m_context.budget;
+  const Error_budget& b = m_context.now.budget;
   const double budget = b.at(best);
   Distance_request request = o.seeding;
   request.absolute_tolerance = std::min(request.absolute_tolerance, b.absolute / k_seeding_slack);
@@ -231,10 +231,10 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
   // pair's certified bound, and of the pairs beyond the broad phase's reach (all of them at
   // least the reach less the relative motion since it ran). Test
   // Certificate.EveryApartRowsLowerBoundHoldsAgainstTheOneShotSolver.
-  double certified = m_broad_reach - approach_bound(m_context.model_a->box(), m_context.model_b->box(),
-                                                    m_last_relative, m_context.relative).closer;
-  const Symmetry turning = m_context.V_A != nullptr && m_context.V_B != nullptr
-                               ? turn_axis(*m_context.V_A, X_WA, *m_context.V_B, X_WB)
+  double certified = m_broad.reach - approach_bound(m_context.model_a->box(), m_context.model_b->box(),
+                                                    m_broad.relative, m_context.now.relative).closer;
+  const Symmetry turning = m_context.now.V_A != nullptr && m_context.now.V_B != nullptr
+                               ? turn_axis(*m_context.now.V_A, X_WA, *m_context.now.V_B, X_WB)
                                : Symmetry();
   // Tracked pairs are watched for a second basin of their own, except between two certified
   // convex bodies: apart, a local minimum of their distance is the global one. (Near contact
@@ -275,7 +275,7 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
       const bool exact =
           held && (m_live[C.tracked_slot].closed_form || (at_minimum && (!watch || one_basin)));
       double lower = exact ? (one_basin ? tracked_lower : C.tracked_distance)
-                           : C.lower - approach_bound(A.box, B.box, C.at, m_context.relative).closer;
+                           : C.lower - approach_bound(A.box, B.box, C.at, m_context.now.relative).closer;
       if (!exact) lower = std::max(lower, box_distance(transformed(A.box, X_WA), transformed(B.box, X_WB)));
       return lower;
     }
@@ -297,7 +297,7 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
     // pairs that solve set aside (their minimum on a carried boundary: a trim edge, or a
     // side shared with a face whose pair is tracked) stay so while the relative motion is
     // below their gradient's reach and the carrying pairs are still tracked (see below).
-    const Approach moved = approach_bound(A.box, B.box, C.at, m_context.relative);
+    const Approach moved = approach_bound(A.box, B.box, C.at, m_context.now.relative);
     double lower_now = C.lower - moved.closer;
     bool clear = lower_now >= need;
     if (!clear && C.bound_count > 0) {
@@ -308,12 +308,12 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
         clear = true;
         ++m_stats.vacated_bound_checks;
         C.lower = lower_now = now;
-        C.at = m_context.relative;
+        C.at = m_context.now.relative;
       }
     }
     if (clear && carriers_tracked(C)) {
       const bool finite = C.reach[0] < HUGE_VAL || C.reach[1] < HUGE_VAL;
-      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_context.relative) : moved;
+      const Approach since = finite ? approach_bound(A.box, B.box, C.reach_at, m_context.now.relative) : moved;
       bool holds = since.move_b < C.reach[0] && since.move_a < C.reach[1];
       // Past the reach, which assumed the worst direction of motion: the set-aside pairs
       // checked again at this pose (the other box moved rigidly) usually still hold.
@@ -322,7 +322,7 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
         holds = true;
         ++m_stats.vacated_proof_checks;
         C.reach = reach;
-        C.reach_at = m_context.relative;
+        C.reach_at = m_context.now.relative;
       }
       if (holds) {
         return lower_now;
@@ -363,7 +363,7 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
     // lower bound that stays clear of `need` for the next steps.
     ++m_stats.vacated_solves;
     if (clear) ++m_stats.vacated_reach_solves;
-    const double step_motion = approach_bound(A.box, B.box, m_context.previous_relative, m_context.relative).closer;
+    const double step_motion = approach_bound(A.box, B.box, m_context.now.previous_relative, m_context.now.relative).closer;
     // At most the broad phase's margin: a cutoff far above the minimum would have the solver
     // settle every pair below it. When one step's motion exceeds that margin (low rates) the
     // bound cannot outlast the step anyway: cut off at `need` itself.
@@ -404,13 +404,13 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
     // solve reports, and the other pairs' bound decays as before; a deeper minimum of the face
     // away from the side is found as any other basin (its pairs are neither set aside nor
     // above it).
-    // The pair's elements whole, or only the sub-patch pairs in m_restarts (`partial`).
+    // The pair's elements whole, or only the sub-patch pairs in m_scratch.restarts (`partial`).
     auto solve = [&](const Distance_request& r, const internal::Proof_request& p, bool partial) {
       const Distance_hierarchy& ha = m_context.model_a->hierarchy();
       const Distance_hierarchy& hb = m_context.model_b->hierarchy();
       Distance_result result =
           partial ? internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
-                                                        B.global_element, m_restarts, r, p,
+                                                        B.global_element, m_scratch.restarts, r, p,
                                                         m_solver.workspace())
                   : internal::extremal_distance_between(ha, X_WA, A.global_element, hb, X_WB,
                                                         B.global_element, r, p, m_solver.workspace());
@@ -491,13 +491,13 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
       C.has_region = false;
     }
     C.lower = kept ? std::min(g.uncarried_lower_bound, kept_lower) : g.uncarried_lower_bound;
-    C.at = m_context.relative;
+    C.at = m_context.now.relative;
     C.reach = g.carried_reach;
     if (kept)
       for (int side = 0; side < 2; ++side) C.reach[side] = std::min(C.reach[side], kept_reach[side]);
-    C.reach_at = m_context.relative;
+    C.reach_at = m_context.now.relative;
     C.carried = {carried_a, carried_b};
-    keep_proofs(C, Solve_pose{X_WA, m_context.relative}, kept);
+    keep_proofs(C, Solve_pose{X_WA, m_context.now.relative}, kept);
     C.slack = g.element_a < 0 ? slack : 0.0;
     C.holds_own_minimum = g.element_a >= 0 && g.upper_bound >= need;
     if (g.element_a < 0 || g.element_b < 0 || !(g.upper_bound < need)) {
@@ -522,19 +522,19 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
   };
   // Tracked and creased candidates are checked at every step (their readings and carriers
   // change without motion); the others when their queue entries say the motion may have used
-  // up their bound or their set-aside proofs' reach (m_bound_queue, m_reach_queue).
+  // up their bound or their set-aside proofs' reach (m_queues.bound, m_queues.reach).
   // (Rounded up: the sum never falls below the motion it adds up.)
-  m_moved = (m_moved + approach_bound(m_context.model_a->box(), m_context.model_b->box(),
-                                      m_moved_at, m_context.relative).most) *
+  m_queues.moved = (m_queues.moved + approach_bound(m_context.model_a->box(), m_context.model_b->box(),
+                                      m_queues.moved_at, m_context.now.relative).most) *
             (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
-  m_moved_at = m_context.relative;
-  // (Keys carry m_moved: started again before its rounding could matter against the budget.)
-  if (m_moved > k_requeue_motion * m_context.length()) {
-    m_moved = 0.0;
-    m_queue_dirty = m_queue_all_due = true;
+  m_queues.moved_at = m_context.now.relative;
+  // (Keys carry m_queues.moved: started again before its rounding could matter against the budget.)
+  if (m_queues.moved > k_requeue_motion * m_context.length()) {
+    m_queues.moved = 0.0;
+    m_queues.dirty = m_queues.all_due = true;
   }
-  if (m_queue_dirty) requeue_all(m_queue_all_due);
-  const long step = m_context.steps;
+  if (m_queues.dirty) requeue_all(m_queues.all_due);
+  const long step = m_context.now.steps;
   long checks = 0;
   // A candidate checked while tracked is checked again at its next step whether or not it is
   // still tracked: its key was the tracker's reading, which holds while the tracker does.
@@ -550,13 +550,13 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
   };
   for (Candidate& C : m_candidates)
     if (C.tracked || C.checked_tracked || C.carried[0] != 0u || C.carried[1] != 0u) checked(C);
-  // An entry's key less m_moved, less the rounding of both (what its candidate's bound, or its
+  // An entry's key less m_queues.moved, less the rounding of both (what its candidate's bound, or its
   // proofs' reach, is at least now).
   auto left = [&](const Queue_entry& e) {
-    return e.key - m_moved - 4.0 * std::numeric_limits<double>::epsilon() * (std::abs(e.key) + m_moved);
+    return e.key - m_queues.moved - 4.0 * std::numeric_limits<double>::epsilon() * (std::abs(e.key) + m_queues.moved);
   };
   auto push_kept = [&](std::vector<Queue_entry>& heap) {
-    for (const Queue_entry& e : m_queue_kept) {
+    for (const Queue_entry& e : m_scratch.queue_kept) {
       heap.push_back(e);
       std::push_heap(heap.begin(), heap.end(), Queue_order());
     }
@@ -566,7 +566,7 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
   // queues are made again. Test
   // BodyScenes.AnUncertifiedCandidateStaysQueuedAndBoundsTheRows.
   auto pop_due = [&](std::vector<Queue_entry>& heap, double level) {
-    m_queue_kept.clear();
+    m_scratch.queue_kept.clear();
     while (!heap.empty() && left(heap.front()) < level) {
       std::pop_heap(heap.begin(), heap.end(), Queue_order());
       const Queue_entry e = heap.back();
@@ -574,28 +574,28 @@ Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
       Candidate& C = m_candidates[static_cast<std::size_t>(e.index)];
       if (e.generation != C.generation) continue;  // (stale)
       if (C.checked_step == step) {
-        m_queue_kept.push_back(e);
+        m_scratch.queue_kept.push_back(e);
         continue;
       }
       checked(C);
     }
     push_kept(heap);
   };
-  pop_due(m_bound_queue, need_apart);
-  pop_due(m_reach_queue, 0.0);
+  pop_due(m_queues.bound, need_apart);
+  pop_due(m_queues.reach, 0.0);
   // The candidates not checked: their queued bounds, less the motion since (those checked
   // gave their bound above; their keys say only when to look again).
-  m_queue_kept.clear();
-  while (!m_bound_queue.empty()) {
-    const Queue_entry& e = m_bound_queue.front();
+  m_scratch.queue_kept.clear();
+  while (!m_queues.bound.empty()) {
+    const Queue_entry& e = m_queues.bound.front();
     const Candidate& C = m_candidates[static_cast<std::size_t>(e.index)];
     if (e.generation == C.generation && C.checked_step != step) break;
-    if (e.generation == C.generation) m_queue_kept.push_back(e);
-    std::pop_heap(m_bound_queue.begin(), m_bound_queue.end(), Queue_order());
-    m_bound_queue.pop_back();
+    if (e.generation == C.generation) m_scratch.queue_kept.push_back(e);
+    std::pop_heap(m_queues.bound.begin(), m_queues.bound.end(), Queue_order());
+    m_queues.bound.pop_back();
   }
-  if (!m_bound_queue.empty()) certified = std::min(certified, left(m_bound_queue.front()));
-  push_kept(m_bound_queue);
+  if (!m_queues.bound.empty()) certified = std::min(certified, left(m_queues.bound.front()));
+  push_kept(m_queues.bound);
   m_stats.vacated_queued += static_cast<long>(m_candidates.size()) - checks;
   return {meet, certified};
 }
@@ -623,11 +623,11 @@ const Rigid_pose_3& Kept_proof_stage::Motions::a(int k) {
 
 bool Kept_proof_stage::proofs_hold(const Candidate& C, std::array<double, 2>& reach) const {
   if (C.proof_count == 0) return false;
-  Motions m(solves_of(C), m_context.relative);
+  Motions m(solves_of(C), m_context.now.relative);
   reach = {HUGE_VAL, HUGE_VAL};
   for (int i = C.proof_begin; i < C.proof_begin + C.proof_count; ++i) {
-    const Gradient_proof& p = m_proofs[i].proof;
-    const int k = m_proofs[i].solve;
+    const Gradient_proof& p = m_kept.proofs[i].proof;
+    const int k = m_kept.proofs[i].solve;
     double r = 0.0;
     if (!gradient_proof_holds(p, p.side == 0 ? m.b(k) : m.a(k), m.length(k), r)) return false;
     reach[p.side] = std::min(reach[p.side], r);
@@ -657,7 +657,7 @@ void Kept_proof_stage::grow_region(Candidate& C, const Primitive& A, const Primi
       wider.lo[i] = std::max(f.lower(j), x[i] - half);
       wider.hi[i] = std::min(f.upper(j), x[i] + half);
     }
-    if (!convex_region_lower(ha, *m_context.X_WA, hb, *m_context.X_WB, wider, x,
+    if (!convex_region_lower(ha, *m_context.now.X_WA, hb, *m_context.now.X_WB, wider, x,
                              m_solver.workspace()))
       return;
     C.region = wider;
@@ -685,7 +685,7 @@ std::optional<double> Kept_proof_stage::locate_single_basin(Candidate& C, int pa
   Extremal_tracker tracker(A.feature, B.feature, params, o);
   const Twist_3 rest;
   const Track_result& r =
-      tracker.step(m_context.t, *m_context.X_WA, rest, *m_context.X_WB, rest, m_context.dt);
+      tracker.step(m_context.now.t, *m_context.now.X_WA, rest, *m_context.now.X_WB, rest, m_context.now.dt);
   params = r.params;
   // (Held on a patch edge while the distance descends into the domain: no stationary point.)
   if (r.degeneracy != Degeneracy::None || !(r.distance > m_context.options.contact_tolerance) ||
@@ -716,7 +716,7 @@ std::optional<double> Kept_proof_stage::locate_single_basin(Candidate& C, int pa
 
 double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {
   if (C.bound_count == 0) return -HUGE_VAL;
-  Motions m(solves_of(C), m_context.relative);
+  Motions m(solves_of(C), m_context.now.relative);
   // A pair's bound less how far the primitives can have come closer since its solve (as the
   // carried bound decays) often clears `need` already: then it is not re-bounded. (A tracked
   // pair's own check re-bounds only the few pairs about its tracked basin.)
@@ -739,19 +739,19 @@ double Kept_proof_stage::bounds_now(const Candidate& C, double need) const {
     const std::array<double, 4> x{{L.result.params[0], L.result.params[1], L.result.params[2],
                                    L.result.params[3]}};
     if (const std::optional<double> r =
-            convex_region_lower(m_context.model_a->hierarchy(), *m_context.X_WA,
-                                m_context.model_b->hierarchy(), *m_context.X_WB, C.region, x,
+            convex_region_lower(m_context.model_a->hierarchy(), *m_context.now.X_WA,
+                                m_context.model_b->hierarchy(), *m_context.now.X_WB, C.region, x,
                                 m_solver.workspace()))
       region = *r;
     return region;
   };
   for (int i = C.bound_begin; i < C.bound_begin + C.bound_count; ++i) {
-    const int k = m_bounds[i].solve;
+    const int k = m_kept.bounds[i].solve;
     if (!(made & (1u << k))) {
-      closer[k] = approach_bound(box_a, box_b, solves_of(C)[k].relative, m_context.relative).closer;
+      closer[k] = approach_bound(box_a, box_b, solves_of(C)[k].relative, m_context.now.relative).closer;
       made |= 1u << k;
     }
-    const Bound_proof& p = m_bounds[i].proof;
+    const Bound_proof& p = m_kept.bounds[i].proof;
     double b = p.lower - closer[k];
     if (!(b >= need)) b = std::max(b, bound_after_motion(p, m.b(k), m.length(k)));
     if (!(b >= need) && C.has_region && inside(C.region, na, nb, p)) b = std::max(b, region_now());
@@ -766,61 +766,61 @@ bool Kept_proof_stage::plan_partial_solve(const Candidate& C, int element_a, int
                                            double& lower, std::array<double, 2>& reach) {
   if (C.solve_count == 0 || C.solve_count >= k_kept_solves || C.bound_count + C.proof_count == 0)
     return false;
-  Motions m(solves_of(C), m_context.relative);
-  m_restarts.clear();
-  m_keep_bound.assign(static_cast<std::size_t>(C.bound_count), 0);
-  m_keep_proof.assign(static_cast<std::size_t>(C.proof_count), 0);
+  Motions m(solves_of(C), m_context.now.relative);
+  m_scratch.restarts.clear();
+  m_scratch.keep_bound.assign(static_cast<std::size_t>(C.bound_count), 0);
+  m_scratch.keep_proof.assign(static_cast<std::size_t>(C.proof_count), 0);
   lower = HUGE_VAL;
   reach = {HUGE_VAL, HUGE_VAL};
   for (int i = 0; i < C.bound_count; ++i) {
-    const Kept_bound& kb = m_bounds[C.bound_begin + i];
+    const Kept_bound& kb = m_kept.bounds[C.bound_begin + i];
     const Bound_proof& p = kb.proof;
     if (p.a_element != element_a || p.b_element != element_b) return false;
     const double now = bound_after_motion(p, m.b(kb.solve), m.length(kb.solve));
     if (now >= cutoff) {
-      m_keep_bound[i] = 1;
+      m_scratch.keep_bound[i] = 1;
       lower = std::min(lower, now);
     } else {
-      m_restarts.push_back({p.a_lo, p.a_hi, p.b_lo, p.b_hi});
+      m_scratch.restarts.push_back({p.a_lo, p.a_hi, p.b_lo, p.b_hi});
     }
   }
   for (int i = 0; i < C.proof_count; ++i) {
-    const Kept_proof& kp = m_proofs[C.proof_begin + i];
+    const Kept_proof& kp = m_kept.proofs[C.proof_begin + i];
     const Gradient_proof& p = kp.proof;
     double r = 0.0;
     const int k = kp.solve;
     if (gradient_proof_holds(p, p.side == 0 ? m.b(k) : m.a(k), m.length(k), r) &&
         r >= min_reach) {
-      m_keep_proof[i] = 1;
+      m_scratch.keep_proof[i] = 1;
       reach[p.side] = std::min(reach[p.side], r);
     } else if (p.side == 0) {
-      m_restarts.push_back({p.own_lo, p.own_hi, p.other_lo, p.other_hi});
+      m_scratch.restarts.push_back({p.own_lo, p.own_hi, p.other_lo, p.other_hi});
     } else {
-      m_restarts.push_back({p.other_lo, p.other_hi, p.own_lo, p.own_hi});
+      m_scratch.restarts.push_back({p.other_lo, p.other_hi, p.own_lo, p.own_hi});
     }
   }
   // (Measured on compare (c) at 1 kHz, nodes of the restricted solves: at most twice the
   // budget 293k, at most the budget 307k, at most half 374k; no limit 306k, and as1's scene
   // (BodyScenes) then ran away: a fallback's tens of thousands of kept pairs restarted at once,
   // over budget, falling back again.)
-  return m_restarts.size() <= k_partial_restarts * static_cast<std::size_t>(max_nodes);
+  return m_scratch.restarts.size() <= k_partial_restarts * static_cast<std::size_t>(max_nodes);
 }
 
 Kept_proof_stage::Solve_pose* Kept_proof_stage::solves_of(Candidate& C) {
   if (C.solve_block < 0) {
-    if (!m_free_solve_blocks.empty()) {
-      C.solve_block = m_free_solve_blocks.back();
-      m_free_solve_blocks.pop_back();
+    if (!m_kept.free_solve_blocks.empty()) {
+      C.solve_block = m_kept.free_solve_blocks.back();
+      m_kept.free_solve_blocks.pop_back();
     } else {
-      C.solve_block = static_cast<int>(m_solve_poses.size());
-      m_solve_poses.resize(m_solve_poses.size() + k_kept_solves);
+      C.solve_block = static_cast<int>(m_kept.solve_poses.size());
+      m_kept.solve_poses.resize(m_kept.solve_poses.size() + k_kept_solves);
     }
   }
-  return m_solve_poses.data() + C.solve_block;
+  return m_kept.solve_poses.data() + C.solve_block;
 }
 
 void Kept_proof_stage::release_solves(Candidate& C) {
-  if (C.solve_block >= 0) m_free_solve_blocks.push_back(C.solve_block);
+  if (C.solve_block >= 0) m_kept.free_solve_blocks.push_back(C.solve_block);
   C.solve_block = -1;
   C.solve_count = 0;
 }
@@ -831,14 +831,14 @@ void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool part
   // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
   // below, which keeps the order within each range.
   if (!partial) {
-    m_kept_proof_total -= C.proof_count;
-    m_kept_bound_total -= C.bound_count;
+    m_kept.proof_total -= C.proof_count;
+    m_kept.bound_total -= C.bound_count;
     C.proof_count = C.bound_count = 0;
   }
   // (Totals kept as counts change: summed over the candidates at every solve, they were a
   // fifth of a step's time against a mesh of thousands of candidate pairs.)
-  const std::size_t live_proofs = proofs.size() + static_cast<std::size_t>(m_kept_proof_total);
-  const std::size_t live_bounds = bounds.size() + static_cast<std::size_t>(m_kept_bound_total);
+  const std::size_t live_proofs = proofs.size() + static_cast<std::size_t>(m_kept.proof_total);
+  const std::size_t live_bounds = bounds.size() + static_cast<std::size_t>(m_kept.bound_total);
   const int counted_proofs = C.proof_count, counted_bounds = C.bound_count;
   // Ranges of re-solved or dropped candidates are stale: compact when they dominate, in place
   // (ranges slid down in the order they were written), so the pools keep their capacity.
@@ -847,17 +847,17 @@ void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool part
     return pool.size() + incoming > pool.capacity() &&
            static_cast<double>(stale) >= k_compact_stale_share * static_cast<double>(pool.capacity());
   };
-  if (m_proofs.size() > k_compact_factor * live_proofs + k_compact_proofs ||
-      m_bounds.size() > k_compact_factor * live_bounds + k_compact_bounds ||
-      outgrows(m_proofs, proofs.size() + static_cast<std::size_t>(C.proof_count), m_kept_proof_total) ||
-      outgrows(m_bounds, bounds.size() + static_cast<std::size_t>(C.bound_count), m_kept_bound_total)) {
-    m_order.clear();
-    for (int i = 0; i < static_cast<int>(m_candidates.size()); ++i) m_order.push_back(i);
+  if (m_kept.proofs.size() > k_compact_factor * live_proofs + k_compact_proofs ||
+      m_kept.bounds.size() > k_compact_factor * live_bounds + k_compact_bounds ||
+      outgrows(m_kept.proofs, proofs.size() + static_cast<std::size_t>(C.proof_count), m_kept.proof_total) ||
+      outgrows(m_kept.bounds, bounds.size() + static_cast<std::size_t>(C.bound_count), m_kept.bound_total)) {
+    m_kept.order.clear();
+    for (int i = 0; i < static_cast<int>(m_candidates.size()); ++i) m_kept.order.push_back(i);
     auto compact = [&](auto& pool, int Candidate::*begin, int Candidate::*count) {
-      std::sort(m_order.begin(), m_order.end(),
+      std::sort(m_kept.order.begin(), m_kept.order.end(),
                 [&](int x, int y) { return m_candidates[x].*begin < m_candidates[y].*begin; });
       int next = 0;
-      for (const int i : m_order) {
+      for (const int i : m_kept.order) {
         Candidate& c = m_candidates[i];
         if (next < c.*begin)  // (copying to the left may overlap)
           std::copy(pool.begin() + c.*begin, pool.begin() + c.*begin + c.*count, pool.begin() + next);
@@ -866,8 +866,8 @@ void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool part
       }
       pool.resize(next);
     };
-    compact(m_proofs, &Candidate::proof_begin, &Candidate::proof_count);
-    compact(m_bounds, &Candidate::bound_begin, &Candidate::bound_count);
+    compact(m_kept.proofs, &Candidate::proof_begin, &Candidate::proof_count);
+    compact(m_kept.bounds, &Candidate::bound_begin, &Candidate::bound_count);
   }
   // The solves the kept proofs still refer to, renumbered in order, then this one.
   Solve_pose* kept = solves_of(C);
@@ -877,9 +877,9 @@ void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool part
   if (partial) {
     std::array<bool, k_kept_solves> used{};
     for (int i = 0; i < C.bound_count; ++i)
-      if (m_keep_bound[i]) used[m_bounds[C.bound_begin + i].solve] = true;
+      if (m_scratch.keep_bound[i]) used[m_kept.bounds[C.bound_begin + i].solve] = true;
     for (int i = 0; i < C.proof_count; ++i)
-      if (m_keep_proof[i]) used[m_proofs[C.proof_begin + i].solve] = true;
+      if (m_scratch.keep_proof[i]) used[m_kept.proofs[C.proof_begin + i].solve] = true;
     for (int k = 0; k < C.solve_count; ++k)
       if (used[k]) {
         renumber[k] = solves;
@@ -890,28 +890,28 @@ void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool part
   kept[solves++] = at;
   C.solve_count = solves;
   const int old_proofs = C.proof_begin, old_bounds = C.bound_begin;
-  C.proof_begin = static_cast<int>(m_proofs.size());
+  C.proof_begin = static_cast<int>(m_kept.proofs.size());
   if (partial)
     for (int i = 0; i < C.proof_count; ++i)
-      if (m_keep_proof[i]) {
-        Kept_proof p = m_proofs[old_proofs + i];  // (a copy: the pool may grow)
+      if (m_scratch.keep_proof[i]) {
+        Kept_proof p = m_kept.proofs[old_proofs + i];  // (a copy: the pool may grow)
         p.solve = renumber[p.solve];
-        m_proofs.push_back(p);
+        m_kept.proofs.push_back(p);
       }
-  for (const Gradient_proof& p : proofs) m_proofs.push_back({p, current});
-  C.proof_count = static_cast<int>(m_proofs.size()) - C.proof_begin;
-  C.bound_begin = static_cast<int>(m_bounds.size());
+  for (const Gradient_proof& p : proofs) m_kept.proofs.push_back({p, current});
+  C.proof_count = static_cast<int>(m_kept.proofs.size()) - C.proof_begin;
+  C.bound_begin = static_cast<int>(m_kept.bounds.size());
   if (partial)
     for (int i = 0; i < C.bound_count; ++i)
-      if (m_keep_bound[i]) {
-        Kept_bound b = m_bounds[old_bounds + i];
+      if (m_scratch.keep_bound[i]) {
+        Kept_bound b = m_kept.bounds[old_bounds + i];
         b.solve = renumber[b.solve];
-        m_bounds.push_back(b);
+        m_kept.bounds.push_back(b);
       }
-  for (const Bound_proof& b : bounds) m_bounds.push_back({b, current});
-  C.bound_count = static_cast<int>(m_bounds.size()) - C.bound_begin;
-  m_kept_proof_total += C.proof_count - counted_proofs;
-  m_kept_bound_total += C.bound_count - counted_bounds;
+  for (const Bound_proof& b : bounds) m_kept.bounds.push_back({b, current});
+  C.bound_count = static_cast<int>(m_kept.bounds.size()) - C.bound_begin;
+  m_kept.proof_total += C.proof_count - counted_proofs;
+  m_kept.bound_total += C.bound_count - counted_bounds;
 }
 
 }  // namespace extremal::internal

@@ -37,39 +37,39 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // frame: what remains is near the other body.
   const Bbox_3 wa = transformed(A.box(), X_WA);
   const Bbox_3 wb = transformed(B.box(), X_WB);
-  m_prims_a.clear();
-  m_prims_b.clear();
+  m_scratch.prims_a.clear();
+  m_scratch.prims_b.clear();
   const bool edges_a = !(B.has_mesh() || B.body().is_point);
   const bool edges_b = !(A.has_mesh() || A.body().is_point);
-  A.collect(transformed(inflate(wb, reach), X_WA.inverse()), edges_a, m_prims_a);
-  B.collect(transformed(inflate(wa, reach), X_WB.inverse()), edges_b, m_prims_b);
+  A.collect(transformed(inflate(wb, reach), X_WA.inverse()), edges_a, m_scratch.prims_a);
+  B.collect(transformed(inflate(wa, reach), X_WB.inverse()), edges_b, m_scratch.prims_b);
   // World boxes of the survivors, inflated by half the reach each: boxes that intersect are
   // within the reach along every axis; the exact box distance decides.
-  auto& ba = m_scratch->boxes_a;
-  auto& bb = m_scratch->boxes_b;
+  auto& ba = m_boxes->boxes_a;
+  auto& bb = m_boxes->boxes_b;
   ba.clear();
   bb.clear();
-  m_world_a.clear();
-  m_world_b.clear();
-  for (int p : m_prims_a) {
-    m_world_a.push_back(transformed(A.primitives()[p].box, X_WA));
-    ba.emplace_back(inflate(m_world_a.back(), 0.5 * reach), static_cast<int>(m_world_a.size()) - 1);
+  m_scratch.world_a.clear();
+  m_scratch.world_b.clear();
+  for (int p : m_scratch.prims_a) {
+    m_scratch.world_a.push_back(transformed(A.primitives()[p].box, X_WA));
+    ba.emplace_back(inflate(m_scratch.world_a.back(), 0.5 * reach), static_cast<int>(m_scratch.world_a.size()) - 1);
   }
-  for (int p : m_prims_b) {
-    m_world_b.push_back(transformed(B.primitives()[p].box, X_WB));
-    bb.emplace_back(inflate(m_world_b.back(), 0.5 * reach), static_cast<int>(m_world_b.size()) - 1);
+  for (int p : m_scratch.prims_b) {
+    m_scratch.world_b.push_back(transformed(B.primitives()[p].box, X_WB));
+    bb.emplace_back(inflate(m_scratch.world_b.back(), 0.5 * reach), static_cast<int>(m_scratch.world_b.size()) - 1);
   }
   const Rigid_pose_3 relative = X_WA.inverse() * X_WB;
   // Sorted as (key, distance) pairs, then made candidates: a candidate is large (its kept
   // solves' poses), and sorting them moved 4% of a step's time in a contact of many pairs.
-  auto& found = m_scratch->found;
+  auto& found = m_boxes->found;
   found.clear();
   CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(),
                            [&](const Box& x, const Box& y) {
                              const int i = x.info(), j = y.info();
-                             const double d = box_distance(m_world_a[i], m_world_b[j]);
+                             const double d = box_distance(m_scratch.world_a[i], m_scratch.world_b[j]);
                              if (d > reach) return;
-                             found.emplace_back(pair_key(m_prims_a[i], m_prims_b[j]), d);
+                             found.emplace_back(pair_key(m_scratch.prims_a[i], m_scratch.prims_b[j]), d);
                            });
   std::sort(found.begin(), found.end());  // (keys are distinct)
   m_next_candidates.clear();
@@ -133,32 +133,32 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
     if (it == m_next_candidates.end() || it->key != key) m_live.kill(static_cast<int>(k));
   }
   m_candidates.swap(m_next_candidates);
-  m_kept_proof_total = m_kept_bound_total = 0;
+  m_kept.proof_total = m_kept.bound_total = 0;
   for (const Candidate& c : m_candidates) {
-    m_kept_proof_total += c.proof_count;
-    m_kept_bound_total += c.bound_count;
+    m_kept.proof_total += c.proof_count;
+    m_kept.bound_total += c.bound_count;
   }
-  m_last_relative = relative;
-  m_broad_reach = reach;
-  m_queue_dirty = true;
+  m_broad.relative = relative;
+  m_broad.reach = reach;
+  m_queues.dirty = true;
   ++m_stats.broad_phases;
 }
 
 Kept_proof_stage::Kept_proof_stage(Pair_context& context, Pair_solver& solver, Live_set& live,
                                    Pair_seeding& seeding)
     : m_context(context), m_solver(solver), m_live(live), m_seeding(seeding),
-      m_scratch(std::make_unique<Broad_scratch>()) {}
+      m_boxes(std::make_unique<Broad_scratch>()) {}
 
 Kept_proof_stage::~Kept_proof_stage() = default;
 
 void Kept_proof_stage::clear() {
   m_candidates.clear();
-  m_queue_dirty = m_queue_all_due = true;
-  m_proofs.clear();
-  m_bounds.clear();
-  m_solve_poses.clear();
-  m_free_solve_blocks.clear();
-  m_kept_proof_total = m_kept_bound_total = 0;
+  m_queues.dirty = m_queues.all_due = true;
+  m_kept.proofs.clear();
+  m_kept.bounds.clear();
+  m_kept.solve_poses.clear();
+  m_kept.free_solve_blocks.clear();
+  m_kept.proof_total = m_kept.bound_total = 0;
 }
 
 void Kept_proof_stage::refresh(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach) {
@@ -172,10 +172,10 @@ void Kept_proof_stage::update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   const Pair_context& c = m_context;
   const double margin = c.reach_margin();
   const double reach = std::abs(best) + margin;
-  if (near_pose(c.relative, m_last_relative, c.length())) return;
+  if (near_pose(c.now.relative, m_broad.relative, c.length())) return;
   const double moved =
-      approach_bound(c.model_a->box(), c.model_b->box(), m_last_relative, c.relative).closer;
-  if (reach + moved > m_broad_reach) broad_phase(X_WA, X_WB, reach + k_broad_extra * margin);
+      approach_bound(c.model_a->box(), c.model_b->box(), m_broad.relative, c.now.relative).closer;
+  if (reach + moved > m_broad.reach) broad_phase(X_WA, X_WB, reach + k_broad_extra * margin);
 }
 
 void Kept_proof_stage::track(int pa, int pb, const Rigid_pose_3& relative) {
@@ -188,7 +188,7 @@ void Kept_proof_stage::track(int pa, int pb, const Rigid_pose_3& relative) {
   m_candidates.insert(std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
                                        [](const Candidate& x, std::uint64_t k) { return x.key < k; }),
                       c);
-  m_queue_dirty = true;  // (the indices moved)
+  m_queues.dirty = true;  // (the indices moved)
 }
 
 }  // namespace extremal::internal

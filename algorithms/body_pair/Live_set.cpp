@@ -110,7 +110,7 @@ int Live_set::count() const {
 
 void Live_set::step_pending() {
   for (std::size_t k = 0; k < m_live.size(); ++k) {
-    if (!m_live[k].alive || m_live[k].stepped == m_context.steps) continue;
+    if (!m_live[k].alive || m_live[k].stepped == m_context.now.steps) continue;
     step_live(static_cast<int>(k));
     for (int hop = 0; hop < 3 && transition(static_cast<int>(k)); ++hop) {
     }
@@ -176,22 +176,22 @@ bool Live_set::tracks_converged(int pa, int pb) const {
 void Live_set::step_live(int k) {
   Live& L = m_live[k];
   const bool first = L.stepped == -1;
-  L.stepped = m_context.steps;
+  L.stepped = m_context.now.steps;
   const Tracking_model& MA = *m_context.model_a;
   const Tracking_model& MB = *m_context.model_b;
   const Primitive& A = MA.primitives()[L.pa];
   const Primitive& B = MB.primitives()[L.pb];
   if (L.closed_form) {
     Track_result& r = L.result;
-    r.time = m_context.t;
+    r.time = m_context.now.t;
     r.status = Track_status::Tracking;
     r.degeneracy = Degeneracy::None;
     r.params.setZero();
     r.iterations = 0;
     if (A.kind == Primitive_kind::Triangle && B.kind == Primitive_kind::Triangle) {
       Vec3 ta[3], tb[3];
-      triangle_corners(MA, A, *m_context.X_WA, ta);
-      triangle_corners(MB, B, *m_context.X_WB, tb);
+      triangle_corners(MA, A, *m_context.now.X_WA, ta);
+      triangle_corners(MB, B, *m_context.now.X_WB, tb);
       const Triangle_closest c = triangle_distance(ta, tb);
       r.distance = c.distance;
       r.point_a = c.point_a;
@@ -200,8 +200,8 @@ void Live_set::step_live(int k) {
     } else {
       const bool tri_a = A.kind == Primitive_kind::Triangle;
       Vec3 t[3];
-      triangle_corners(tri_a ? MA : MB, tri_a ? A : B, tri_a ? *m_context.X_WA : *m_context.X_WB, t);
-      const Vec3 q = (tri_a ? *m_context.X_WB : *m_context.X_WA).translation();
+      triangle_corners(tri_a ? MA : MB, tri_a ? A : B, tri_a ? *m_context.now.X_WA : *m_context.now.X_WB, t);
+      const Vec3 q = (tri_a ? *m_context.now.X_WB : *m_context.now.X_WA).translation();
       double uv[2];
       const Vec3 c = closest_on_triangle(q, t[0], t[1], t[2], uv);
       r.point_a = tri_a ? c : q;
@@ -217,7 +217,7 @@ void Live_set::step_live(int k) {
     return;
   }
   const Pair_context& c = m_context;
-  L.result = L.tracker.step(c.t, *c.X_WA, *c.V_A, *c.X_WB, *c.V_B, c.dt);
+  L.result = L.tracker.step(c.now.t, *c.now.X_WA, *c.now.V_A, *c.now.X_WB, *c.now.V_B, c.now.dt);
   L.regime = regime_of(L.result.distance, c.options.contact_tolerance, L.result.normal_form);
   m_stats.corrections += L.result.corrections;
   const int cap = c.options.tracker.corrections;
@@ -237,7 +237,7 @@ bool Live_set::transition(int k) {
     const int p = side == 0 ? L.pa : L.pb;
     const Primitive& P = M.primitives()[p];
     const double* q = r.params.data() + (side == 0 ? 0 : na);
-    const Rigid_pose_3& X = side == 0 ? *m_context.X_WA : *m_context.X_WB;
+    const Rigid_pose_3& X = side == 0 ? *m_context.now.X_WA : *m_context.now.X_WB;
     const Vec3& other = side == 0 ? r.point_b : r.point_a;
     int np = -1;
     double nq[2] = {0, 0};

@@ -58,7 +58,9 @@ Pair_context::Pair_context(std::shared_ptr<const Tracking_model> a,
                            std::shared_ptr<const Tracking_model> b, const Body_pair_options& o)
     : model_a(std::move(a)), model_b(std::move(b)),
       options(signed_options(o, Pair_kind::of(*model_a, *model_b))),
-      kind(Pair_kind::of(*model_a, *model_b)), budget(o.tolerance) {}
+      kind(Pair_kind::of(*model_a, *model_b)) {
+  now.budget = o.tolerance;
+}
 
 double Pair_context::length() const {
   return std::max(box_diagonal(model_a->box()), box_diagonal(model_b->box()));
@@ -72,20 +74,20 @@ double Pair_context::reach_margin() const {
 }
 
 bool Pair_context::convex() {
-  if (m_convex < 0)
-    m_convex = is_certified_convex(model_a->body()) && is_certified_convex(model_b->body());
-  return m_convex == 1;
+  if (m_made.convex < 0)
+    m_made.convex = is_certified_convex(model_a->body()) && is_certified_convex(model_b->body());
+  return m_made.convex == 1;
 }
 
 bool Pair_context::convex_body(int side) {
-  signed char& c = m_convex_body[side];
+  signed char& c = m_made.convex_body[side];
   if (c < 0) c = is_certified_convex(model(side).body()) ? 1 : 0;
   return c == 1;
 }
 
 bool Pair_context::flat_single_basin(int pa, int pb, double d) {
   const double fa = primitive(0, pa).flatness, fb = primitive(1, pb).flatness;
-  const double budget = k_flat_budget * this->budget.at(d);
+  const double budget = k_flat_budget * now.budget.at(d);
   if (fa < HUGE_VAL && fb < HUGE_VAL) return fa + fb <= budget;
   if (fa < HUGE_VAL) return fa <= budget && convex_body(1);
   if (fb < HUGE_VAL) return fb <= budget && convex_body(0);
@@ -107,13 +109,13 @@ double Pair_context::depth_tolerance(double depth) const {
 }
 
 double Pair_context::boxes_bound() {
-  if (m_boxes_bound_at == steps) return m_boxes_bound;
+  if (m_made.boxes_bound_at == now.steps) return m_made.boxes_bound;
   // In A's frame: B's box is placed by X_AB. Along n, A reaches box_support(A, n) and B
   // reaches down to -box_support(B, -R^T n) - n.t; the overlap is their difference.
   const Bbox_3& a = model_a->box();
   const Bbox_3& b = model_b->box();
-  const Mat3 R = relative.rotation();
-  const Vec3 t = relative.translation();
+  const Mat3 R = now.relative.rotation();
+  const Vec3 t = now.relative.translation();
   double least = HUGE_VAL;
   for (int frame = 0; frame < 2; ++frame)
     for (int axis = 0; axis < 3; ++axis)
@@ -121,9 +123,9 @@ double Pair_context::boxes_bound() {
         const Vec3 n = sign * (frame == 0 ? Vec3(Vec3::Unit(axis)) : Vec3(R.col(axis)));
         least = std::min(least, box_support(a, n) + box_support(b, -(R.transpose() * n)) - n.dot(t));
       }
-  m_boxes_bound = least + depth_tolerance(least);
-  m_boxes_bound_at = steps;
-  return m_boxes_bound;
+  m_made.boxes_bound = least + depth_tolerance(least);
+  m_made.boxes_bound_at = now.steps;
+  return m_made.boxes_bound;
 }
 
 }  // namespace internal

@@ -8,8 +8,8 @@ Distance_result Pair_solver::global(const Rigid_pose_3& X_WA, const Rigid_pose_3
   ++m_solves;
   const Pair_context& c = m_context;
   Distance_request request = c.options.global;
-  request.absolute_tolerance = std::min(request.absolute_tolerance, c.budget.absolute);
-  request.relative_tolerance = std::min(request.relative_tolerance, c.budget.relative);
+  request.absolute_tolerance = std::min(request.absolute_tolerance, c.now.budget.absolute);
+  request.relative_tolerance = std::min(request.relative_tolerance, c.now.budget.relative);
   return extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB, request,
                            m_workspace);
 }

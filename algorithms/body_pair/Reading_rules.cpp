@@ -189,7 +189,7 @@ bool normal_form_unsolved(const Reading& r) {
           : t.degeneracy != Degeneracy::None && t.degeneracy != Degeneracy::Pole &&
                 (t.on_edge != 0u || !r.a.is_surface() || !r.b.is_surface() ||
                  on_trim_boundary(r.a, q) || on_trim_boundary(r.b, q + 2)) &&
-                !edge_crosses_surface(r.a, *c.X_WA, r.b, *c.X_WB, q, t.on_edge);
+                !edge_crosses_surface(r.a, *c.now.X_WA, r.b, *c.now.X_WB, q, t.on_edge);
   return !holds;
 }
 
@@ -229,7 +229,7 @@ bool normals_alike_in_contact(const Reading& r) {
   const bool near = d >= -tol && d <= k_near_contact * tol && t.on_edge == 0u &&
                     !on_trim_boundary(r.a, q) && !on_trim_boundary(r.b, q + 2);
   Vec3 na, nb;
-  return near && outward(r.a, *r.context.X_WA, q, na) && outward(r.b, *r.context.X_WB, q + 2, nb) &&
+  return near && outward(r.a, *r.context.now.X_WA, q, na) && outward(r.b, *r.context.now.X_WB, q + 2, nb) &&
          na.dot(nb) > k_normals_alike * na.norm() * nb.norm();
 }
 
@@ -240,10 +240,10 @@ bool depth_normals_not_opposed(const Reading& r) {
   const Track_result& t = r.slot.result;
   const double* q = params_of(r);
   Vec3 na, nb;
-  return outward(r.b, *r.context.X_WB, q + 2, nb) && outward(r.a, *r.context.X_WA, q, na) &&
+  return outward(r.b, *r.context.now.X_WB, q + 2, nb) && outward(r.a, *r.context.now.X_WA, q, na) &&
          (na.dot(nb) > k_normals_opposed * na.norm() * nb.norm() ||
-          normal_across_edge(r.a, *r.context.X_WA, q, t.on_edge & 3u, nb) ||
-          normal_across_edge(r.b, *r.context.X_WB, q + 2, t.on_edge >> 2, na));
+          normal_across_edge(r.a, *r.context.now.X_WA, q, t.on_edge & 3u, nb) ||
+          normal_across_edge(r.b, *r.context.now.X_WB, q + 2, t.on_edge >> 2, na));
 }
 
 // Two solids apart: d goes against B's outward normal at its witness (along it, A's witness
@@ -252,7 +252,7 @@ bool apart_witness_inside(const Reading& r) {
   if (!solid_faces(r) || r.slot.regime != Regime::Apart) return false;
   const Track_result& t = r.slot.result;
   Vec3 nb;
-  if (!outward(r.b, *r.context.X_WB, params_of(r) + 2, nb)) return false;
+  if (!outward(r.b, *r.context.now.X_WB, params_of(r) + 2, nb)) return false;
   const Vec3 gap = t.point_b - t.point_a;
   return nb.dot(gap) > k_normals_opposed * nb.norm() * gap.norm();
 }
@@ -275,10 +275,10 @@ bool edge_outside_wedge(const Reading& r) {
   const Primitive& S = edge_a ? r.b : r.a;
   const double* q = params_of(r);
   Feature_point f;
-  evaluate_feature(S.feature, edge_a ? *c.X_WB : *c.X_WA, edge_a ? q + 1 : q, f, 1);
+  evaluate_feature(S.feature, edge_a ? *c.now.X_WB : *c.now.X_WA, edge_a ? q + 1 : q, f, 1);
   const Vec3 n = S.feature.outward_sign() * f.d[0].cross(f.d[1]);
   return outside_edge_wedge(c.model(edge_a ? 0 : 1), edge_a ? r.slot.pa : r.slot.pb,
-                            edge_a ? *c.X_WA : *c.X_WB, edge_a ? q[0] : q[2], -n);
+                            edge_a ? *c.now.X_WA : *c.now.X_WB, edge_a ? q[0] : q[2], -n);
 }
 
 // A depth counts only for a pair that went inside through contact (a face turned away from the

@@ -94,20 +94,20 @@ void Stage_engine::step_trackers() {
 
 void Stage_engine::monitor_depth() {
   const bool force = m_depth.shallower_pair(m_tracked.best);
-  m_depth.check(*m_context.X_WA, *m_context.X_WB, m_tracked.best, force);
+  m_depth.check(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best, force);
 }
 
 void Stage_engine::update_candidates() {
   m_notes.candidates = std::isfinite(m_tracked.best);
   if (!m_notes.candidates) return;  // (solve_if_lost re-seeds)
-  m_candidates->update(*m_context.X_WA, *m_context.X_WB, m_tracked.best);
+  m_candidates->update(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best);
 }
 
 void Stage_engine::certify_apart() {
   // Apart or not is decided here, once, for this step's candidate stages.
   m_notes.apart = m_notes.candidates && m_tracked.best > m_context.options.contact_tolerance;
   if (m_notes.apart)
-    m_notes.certificate = m_candidates->certify_apart(*m_context.X_WA, *m_context.X_WB, m_tracked.best);
+    m_notes.certificate = m_candidates->certify_apart(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best);
 }
 
 void Stage_engine::solve_where_met() {
@@ -115,8 +115,8 @@ void Stage_engine::solve_where_met() {
   // surfaces hold nothing): they are not apart. The whole pair is solved as one lost (the
   // hulls' depth where no tracker takes it), and a tracker reading apart is no answer.
   if (!m_notes.apart || !m_notes.certificate.meet) return;
-  const Distance_result g = m_solver.global(*m_context.X_WA, *m_context.X_WB);
-  if (m_depth.seed_overlap(g, *m_context.X_WA, *m_context.X_WB, true)) ++m_reseeds;  // (keeps g)
+  const Distance_result g = m_solver.global(*m_context.now.X_WA, *m_context.now.X_WB);
+  if (m_depth.seed_overlap(g, *m_context.now.X_WA, *m_context.now.X_WB, true)) ++m_reseeds;  // (keeps g)
   m_notes.meets = true;
 }
 
@@ -130,7 +130,7 @@ void Stage_engine::seed_in_contact() {
   // In contact every candidate pair gets a tracker.
   if (m_notes.apart || !m_notes.candidates) return;
   m_notes.depth_before = m_tracked.best;
-  m_notes.seeded_in_contact = m_candidates->seed_in_contact(*m_context.X_WA, *m_context.X_WB);
+  m_notes.seeded_in_contact = m_candidates->seed_in_contact(*m_context.now.X_WA, *m_context.now.X_WB);
 }
 
 void Stage_engine::check_contact_depth() {
@@ -139,7 +139,7 @@ void Stage_engine::check_contact_depth() {
   if (!m_notes.seeded_in_contact) return;
   const double before = m_notes.depth_before, tol = m_context.options.contact_tolerance;
   if (before < -tol && m_tracked.best < before - m_context.depth_tolerance(before))
-    m_depth.check(*m_context.X_WA, *m_context.X_WB, m_tracked.best, true);
+    m_depth.check(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best, true);
 }
 
 void Stage_engine::resolve_start_overlap() {
@@ -150,9 +150,9 @@ void Stage_engine::resolve_start_overlap() {
   // ProbeScenes.ABoxStartedAcrossASheetsBorderIsNotApart).
   if (!m_start.pending) return;
   m_start.pending = false;
-  if (!same_pose(m_context.relative, m_start.relative)) return;
+  if (!same_pose(m_context.now.relative, m_start.relative)) return;
   if (!(m_tracked.best < -m_context.options.contact_tolerance))
-    m_depth.seed_overlap(m_start.solve, *m_context.X_WA, *m_context.X_WB, true);
+    m_depth.seed_overlap(m_start.solve, *m_context.now.X_WA, *m_context.now.X_WB, true);
   m_notes.meets = true;
 }
 
@@ -168,8 +168,8 @@ void Stage_engine::solve_lost() {
     const Live& L = m_live[static_cast<int>(k)];
     if (L.alive && !L.valid && is_inside(L.regime)) m_live.kill(static_cast<int>(k));
   }
-  const Rigid_pose_3& X_WA = *m_context.X_WA;
-  const Rigid_pose_3& X_WB = *m_context.X_WB;
+  const Rigid_pose_3& X_WA = *m_context.now.X_WA;
+  const Rigid_pose_3& X_WB = *m_context.now.X_WB;
   const Distance_result g = m_solver.global(X_WA, X_WB);
   if (m_seeding.seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity())) ++m_reseeds;
   if (m_depth.seed_overlap(g, X_WA, X_WB, true)) ++m_reseeds;
@@ -182,10 +182,10 @@ void Stage_engine::merge_duplicates() { m_live.merge_duplicates(); }
 
 void Stage_engine::audit() {
   const int every = m_context.options.audit_every;
-  if (every <= 0 || m_context.steps % every != 0) return;
+  if (every <= 0 || m_context.now.steps % every != 0) return;
   const auto start = std::chrono::steady_clock::now();
-  const Distance_result g = m_solver.global(*m_context.X_WA, *m_context.X_WB);
-  if (m_seeding.seed_from(g, *m_context.X_WA, *m_context.X_WB, m_tracked.best)) ++m_reseeds;
+  const Distance_result g = m_solver.global(*m_context.now.X_WA, *m_context.now.X_WB);
+  if (m_seeding.seed_from(g, *m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best)) ++m_reseeds;
   m_notes.audit_us +=
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
 }
@@ -194,24 +194,24 @@ void Stage_engine::solve_if_unheld() {
   // No tracker holds at the end of the step while the solver's last answer is an earlier
   // step's: solved again, so that no row repeats an earlier step's answer (test
   // ProbeScenes.AScrewPushedThroughAPlaneIsApartOnceOut).
-  if (m_depth.solved().step != m_context.steps && !m_live.any_valid()) solve_lost();
+  if (m_depth.solved().step != m_context.now.steps && !m_live.any_valid()) solve_lost();
 }
 
 const Pair_answer& Stage_engine::step(const Pair_step& step) {
   Pair_context& c = m_context;
-  c.t = step.t;
-  c.dt = step.dt;
-  c.X_WA = &step.X_WA;
-  c.X_WB = &step.X_WB;
-  c.V_A = &step.V_A;
-  c.V_B = &step.V_B;
-  c.budget = step.budget;
-  ++c.steps;
+  c.now.t = step.t;
+  c.now.dt = step.dt;
+  c.now.X_WA = &step.X_WA;
+  c.now.X_WB = &step.X_WB;
+  c.now.V_A = &step.V_A;
+  c.now.V_B = &step.V_B;
+  c.now.budget = step.budget;
+  ++c.now.steps;
   m_notes = {};
-  c.relative = step.X_WA.inverse() * step.X_WB;
+  c.now.relative = step.X_WA.inverse() * step.X_WB;
   if (!m_started) {
     start(step.X_WA, step.X_WB);
-    c.previous_relative = c.relative;
+    c.now.previous_relative = c.now.relative;
   }
   // The stages of a step, in order; after each, step_trackers() if it changed the live set.
   static constexpr Stage k_stages[] = {
@@ -231,7 +231,7 @@ const Pair_answer& Stage_engine::step(const Pair_step& step) {
   }
   make_answer();
   m_depth.note_answer(m_answer, step.X_WA);
-  c.previous_relative = c.relative;
+  c.now.previous_relative = c.now.relative;
   return m_answer;
 }
 
@@ -243,7 +243,7 @@ void Stage_engine::make_answer() {
     const Live& L = m_live[static_cast<int>(k)];
     if (!L.alive) continue;
     if (L.valid && L.result.distance < held_d) held_d = L.result.distance, held = static_cast<int>(k);
-    if (!L.valid && L.stepped == m_context.steps && L.result.distance < rejected_d)
+    if (!L.valid && L.stepped == m_context.now.steps && L.result.distance < rejected_d)
       rejected_d = L.result.distance, rejected = static_cast<int>(k);
   }
   const double tol = m_context.options.contact_tolerance;
@@ -278,7 +278,7 @@ void Stage_engine::make_answer() {
   }
   // The certification's bound of this step, or the solver's when it answered.
   double lower = m_notes.certificate.lower;
-  if (solved && s.step == m_context.steps) lower = std::max(lower, s.lower_bound);
+  if (solved && s.step == m_context.now.steps) lower = std::max(lower, s.lower_bound);
   r.lower_bound.reset();
   if (lower > -HUGE_VAL) r.lower_bound = lower;
 }

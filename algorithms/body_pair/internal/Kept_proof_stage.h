@@ -208,7 +208,7 @@ class Kept_proof_stage final : public Candidate_stage {
   // C's block, made on first use (which may move the others: no pointer outlives a call).
   Solve_pose* solves_of(Candidate& C);
   const Solve_pose* solves_of(const Candidate& C) const {
-    return C.solve_block < 0 ? nullptr : m_solve_poses.data() + C.solve_block;
+    return C.solve_block < 0 ? nullptr : m_kept.solve_poses.data() + C.solve_block;
   }
   // Gives C's block back (a candidate dropped, or replaced without its proofs).
   void release_solves(Candidate& C);
@@ -219,36 +219,46 @@ class Kept_proof_stage final : public Candidate_stage {
   Pair_seeding& m_seeding;
   Pair_statistics m_stats;  // its checks, solves and seeds
   std::vector<Candidate> m_candidates, m_next_candidates;
-  std::vector<Kept_proof> m_proofs;
-  std::vector<Kept_bound> m_bounds;
-  // Blocks of k_kept_solves poses (Candidate::solve_block), and the free ones.
-  std::vector<Solve_pose> m_solve_poses;
-  std::vector<int> m_free_solve_blocks;
-  // The candidates' proof_count and bound_count summed: the entries of m_proofs and m_bounds
-  // still read (the rest are stale ranges, compacted away by keep_proofs).
-  long m_kept_proof_total = 0, m_kept_bound_total = 0;
-  std::vector<int> m_order;  // scratch of keep_proofs
-  // Scratch of plan_partial_solve.
-  std::vector<Sub_patch_pair> m_restarts;
-  std::vector<unsigned char> m_keep_proof, m_keep_bound;
-  // Scratch of the broad phase.
-  std::vector<int> m_prims_a, m_prims_b;
-  std::vector<Bbox_3> m_world_a, m_world_b;
-  struct Broad_scratch;
-  std::unique_ptr<Broad_scratch> m_scratch;
+  // The candidates' kept proofs: the pairs their restricted solves set aside and bounded, and
+  // the poses of those solves.
+  struct {
+    std::vector<Kept_proof> proofs;
+    std::vector<Kept_bound> bounds;
+    // Blocks of k_kept_solves poses (Candidate::solve_block), and the free ones.
+    std::vector<Solve_pose> solve_poses;
+    std::vector<int> free_solve_blocks;
+    // The candidates' proof_count and bound_count summed: the entries of proofs and bounds
+    // still read (the rest are stale ranges, compacted away by keep_proofs).
+    long proof_total = 0, bound_total = 0;
+    std::vector<int> order;  // (keep_proofs' scratch)
+  } m_kept;
   // The candidates without a tracker, queued by when the motion may have used up their bound
-  // (m_bound_queue: due once a key less m_moved falls below `need`) or their set-aside proofs'
-  // reach (m_reach_queue: once it falls below 0): a step checks only the due ones. m_moved
-  // sums the relative motion's displacement bound (Approach::most) over the steps, up to
-  // X_AB = m_moved_at.
-  std::vector<Queue_entry> m_bound_queue, m_reach_queue;
-  std::vector<Queue_entry> m_queue_kept;  // (certify_apart's scratch)
-  bool m_queue_dirty = true;     // the candidates' indices changed
-  bool m_queue_all_due = true;   // and their keys no longer hold
-  double m_moved = 0.0;
-  Rigid_pose_3 m_moved_at;
-  Rigid_pose_3 m_last_relative;       // X_AB at the last broad phase
-  double m_broad_reach = -HUGE_VAL;  // the reach it was run with
+  // (bound: due once a key less `moved` falls below `need`) or their set-aside proofs' reach
+  // (reach: once it falls below 0): a step checks only the due ones. `moved` sums the relative
+  // motion's displacement bound (Approach::most) over the steps, up to X_AB = moved_at.
+  struct {
+    std::vector<Queue_entry> bound, reach;
+    bool dirty = true;    // the candidates' indices changed
+    bool all_due = true;  // and their keys no longer hold
+    double moved = 0.0;
+    Rigid_pose_3 moved_at;
+  } m_queues;
+  // The last broad phase: X_AB there and the reach it was run with.
+  struct {
+    Rigid_pose_3 relative;
+    double reach = -HUGE_VAL;
+  } m_broad;
+  struct Broad_scratch;
+  // Scratch, kept for its capacity: of plan_partial_solve (restarts, keep_proof, keep_bound),
+  // of the broad phase (prims, world boxes; its boxes in m_boxes), of certify_apart (queue_kept).
+  struct {
+    std::vector<Sub_patch_pair> restarts;
+    std::vector<unsigned char> keep_proof, keep_bound;
+    std::vector<int> prims_a, prims_b;
+    std::vector<Bbox_3> world_a, world_b;
+    std::vector<Queue_entry> queue_kept;
+  } m_scratch;
+  std::unique_ptr<Broad_scratch> m_boxes;  // (the broad phase's, Kept_proof_stage.cpp)
 };
 
 }  // namespace extremal::internal

@@ -50,22 +50,27 @@ class Pair_context {
   const Body_pair_options options;
   const Pair_kind kind;
 
-  // This step's inputs (Body_pair_tracker::step), read by the trackers' steps and transitions.
-  double t = 0.0, dt = 1e-3;
-  const Rigid_pose_3* X_WA = nullptr;
-  const Rigid_pose_3* X_WB = nullptr;
-  const Twist_3* V_A = nullptr;
-  const Twist_3* V_B = nullptr;
-  Rigid_pose_3 relative, previous_relative;  // X_AB at this step and the one before
-  long steps = 0;                            // steps begun since construction
-  // The error budget this step is certified at (Pair_step::budget).
-  Error_budget budget;
+  // This step's inputs, set by Stage_engine::step and read by the stages.
+  struct Step_inputs {
+    double t = 0.0, dt = 1e-3;
+    const Rigid_pose_3* X_WA = nullptr;
+    const Rigid_pose_3* X_WB = nullptr;
+    const Twist_3* V_A = nullptr;
+    const Twist_3* V_B = nullptr;
+    Rigid_pose_3 relative, previous_relative;  // X_AB at this step and the one before
+    long steps = 0;                            // steps begun since construction
+    Error_budget budget;                       // this step is certified at (Pair_step::budget)
+  } now;
 
  private:
-  double m_boxes_bound = HUGE_VAL;
-  long m_boxes_bound_at = -1;
-  signed char m_convex = -1;
-  signed char m_convex_body[2] = {-1, -1};
+  // Made on first use: the boxes' bound of step m_boxes_bound_at, and whether the bodies are
+  // certified convex (-1: not known yet).
+  struct {
+    double boxes_bound = HUGE_VAL;
+    long boxes_bound_at = -1;
+    signed char convex = -1;
+    signed char convex_body[2] = {-1, -1};
+  } m_made;
 };
 
 }  // namespace extremal::internal
