@@ -296,8 +296,9 @@ namespace {
 
 // Gauss-Newton on f_A = f_B over primitives A and B from x (least-norm steps, clamped to their
 // domains): whether it ends on a point of both, within `tol` of each other.
+// x is left at the common point where there is one.
 bool common_point(const Tracking_model& MA, int pa, const Rigid_pose_3& X_WA,
-                  const Tracking_model& MB, int pb, const Rigid_pose_3& X_WB, Vec4 x, double tol) {
+                  const Tracking_model& MB, int pb, const Rigid_pose_3& X_WB, Vec4& x, double tol) {
   const Feature& fa = MA.primitives()[pa].feature;
   const Feature& fb = MB.primitives()[pb].feature;
   const int na = fa.dimension(), n = na + fb.dimension();
@@ -359,6 +360,18 @@ bool Depth_monitor::open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pos
   m_checked = HUGE_VAL;
   seeded = true;
   return false;
+}
+
+bool Depth_monitor::meeting_point(const Rigid_pose_3& X_WA, Vec3& x) const {
+  const Pair_context& c = m_context;
+  if (!m_meets_at_valid || !m_meets || m_meet_pa < 0 ||
+      c.now.relative.rotation() != m_meets_at.rotation() ||
+      c.now.relative.translation() != m_meets_at.translation())
+    return false;
+  Feature_point p;
+  evaluate_feature(c.model_a->primitives()[m_meet_pa].feature, X_WA, m_meet_params.data(), p, 0);
+  x = p.p;
+  return x.allFinite();
 }
 
 bool Depth_monitor::shallower_pair(double best) {

@@ -230,6 +230,7 @@ const Pair_answer& Stage_engine::step(const Pair_step& step) {
     if (m_live.generation() != m_tracked.seen) step_trackers();
   }
   make_answer();
+  if (!c.kind.has_inside()) unsigned_answer();
   m_depth.note_answer(m_answer, step.X_WA);
   c.now.previous_relative = c.now.relative;
   return m_answer;
@@ -281,6 +282,19 @@ void Stage_engine::make_answer() {
   if (solved && s.step == m_context.now.steps) lower = std::max(lower, s.lower_bound);
   r.lower_bound.reset();
   if (lower > -HUGE_VAL) r.lower_bound = lower;
+}
+
+void Stage_engine::unsigned_answer() {
+  // A pair without an inside reads no depth: a tracker behind a surface here means the bodies
+  // meet (Depth_monitor::check found them meeting at this step, else dropped the pair), and
+  // the row is 0 at a point where they meet (the reading's A witness when none is known).
+  // Test Overlap.ACurveThroughASheetIsUnsignedAndZeroWhileItPiercesIt.
+  Pair_answer& r = m_answer;
+  if (!(r.distance < 0.0)) return;
+  Vec3 x = r.point_a;
+  m_depth.meeting_point(*m_context.now.X_WA, x);
+  r.distance = 0.0;
+  r.point_a = r.point_b = x;
 }
 
 }  // namespace extremal::internal

@@ -40,6 +40,9 @@ class Depth_monitor {
     m_meet_pa = -1;
     m_meets_at_valid = false;
   }
+  // A point of A where the surfaces meet at this step's relative pose, in the world, as the
+  // last check found it (open_pair_overlaps). False: none found at this pose.
+  bool meeting_point(const Rigid_pose_3& X_WA, Vec3& x) const;
   // After each step's answer: a solid against an open body keeps the side it is on while they
   // are apart or in contact (the answer's normal, in A's frame), the side it enters by.
   void note_answer(const Pair_answer& r, const Rigid_pose_3& X_WA);

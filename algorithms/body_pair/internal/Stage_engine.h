@@ -65,6 +65,8 @@ class Stage_engine final : public Pair_engine {
   // The certified solver seeds again when no tracker holds a pair.
   void solve_lost();
   void make_answer();
+  // A pair without an inside (Pair_kind::has_inside): a negative answer is 0 where they meet.
+  void unsigned_answer();
 
   Pair_context m_context;
   Pair_solver m_solver;
