@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <queue>
 #include <sstream>
 #include <utility>
@@ -603,6 +604,32 @@ std::vector<Vec3> sample_points(const Distance_hierarchy& H, const Rigid_pose_3&
   return out;
 }
 
+// A body with no side to be inside of, whatever it meets: a point, or a body without faces
+// that is not closed (curves only, an open mesh).
+bool sideless(const Body& body, bool closed) {
+  return body.is_point || (!closed && body.faces.empty());
+}
+
+// The parameters on the ball's face (its only element, of H) of its world point x: Newton's
+// projection from the nearest of a grid of samples. False if it does not converge there.
+bool ball_params(const Distance_hierarchy& H, const Rigid_pose_3& X_W, const Vec3& x,
+                 std::array<double, 2>& q) {
+  constexpr int k_grid = 8;
+  const Feature& f = H.elements().front().feature;
+  std::array<double, 2> start{{f.lower(0), f.lower(1)}};
+  double least = HUGE_VAL;
+  for (int i = 0; i <= k_grid; ++i)
+    for (int j = 0; j <= k_grid; ++j) {
+      const double uv[2] = {f.lower(0) + (f.upper(0) - f.lower(0)) * i / k_grid,
+                            f.lower(1) + (f.upper(1) - f.lower(1)) * j / k_grid};
+      Feature_point fp;
+      evaluate_feature(f, X_W, uv, fp, 0);
+      const double d = (fp.p - x).squaredNorm();
+      if (d < least) least = d, start = {uv[0], uv[1]};
+    }
+  return face_point_at(H, X_W, 0, x, start, 1e-9 * std::max(1.0, x.norm()), q);
+}
+
 Signed_distance_status from_distance_status(Distance_status s) {
   switch (s) {
     case Distance_status::Budget_exhausted: return Signed_distance_status::Budget_exhausted;
@@ -722,8 +749,70 @@ Signed_distance_result signed_distance(const Body& A, const Distance_hierarchy& 
   const bool unknown = test.unknown;
   const long winding_cells = test.winding_cells;
 
+  // A ball against a closed body it overlaps (one not certified convex, where the hulls'
+  // depth is already the translation distance).
+  std::optional<Ball> ball_a, ball_b;
+  if (overlap != Overlap_kind::None) {
+    if (closed_b.closed && !is_certified_convex(B)) ball_a = certified_ball(A);
+    if (!ball_a && closed_a.closed && !is_certified_convex(A)) ball_b = certified_ball(B);
+  }
+
   Signed_distance_result out;
-  if (overlap == Overlap_kind::None) {
+  if (overlap == Overlap_kind::Surfaces_meet &&
+      (sideless(A, closed_a.closed) || sideless(B, closed_b.closed)) &&
+      (A.is_point || B.is_point || (!closed_a.closed && !closed_b.closed))) {
+    // No inside to be deep in (a point on a surface; a curve, a point or an open mesh meeting a
+    // body that is not closed): the distance, 0 where they meet, unsigned. Test
+    // Overlap.ACurveThroughASheetIsUnsignedAndZeroWhileItPiercesIt.
+    out.status = r.is_certified() ? Signed_distance_status::Touching : from_distance_status(r.status);
+    out.distance = r.distance;
+    out.lower_bound = r.lower_bound;
+    out.upper_bound = r.upper_bound;
+    out.point_a = r.point_a;
+    out.point_b = r.point_b;
+    out.normal = r.normal;
+    out.kind_a = r.kind_a;
+    out.kind_b = r.kind_b;
+    out.element_a = r.element_a;
+    out.element_b = r.element_b;
+    out.face_a = r.face_a;
+    out.face_b = r.face_b;
+    out.params_a = r.params_a;
+    out.params_b = r.params_b;
+    out.tolerance_used = r.tolerance_used;
+  } else if (ball_a || ball_b) {
+    // A ball is as deep as its centre's signed distance less its radius (Minkowski): the
+    // centre's signed distance as a point's, the ball's witness moved from the centre along
+    // the normal by the radius. Test Overlap.ABallInAClosedMeshReadsItsCentresSignedDistanceLessItsRadius.
+    static const Body centre = make_point_body("centre");
+    static const Distance_hierarchy HC(centre);
+    const bool on_a = ball_a.has_value();
+    const Ball& ball = on_a ? *ball_a : *ball_b;
+    const Vec3 c = (on_a ? X_WA : X_WB).apply_point(ball.centre);
+    const Rigid_pose_3 X_WC(Mat3::Identity(), c);
+    Signed_distance_request centre_request = request;
+    centre_request.total_seconds = budget.limit_for(request.total_seconds);
+    out = on_a ? signed_distance(centre, HC, X_WC, B, HB, X_WB, centre_request)
+               : signed_distance(A, HA, X_WA, centre, HC, X_WC, centre_request);
+    out.distance -= ball.radius;
+    out.lower_bound -= ball.radius;
+    out.upper_bound -= ball.radius;
+    // point_b - point_a = distance * normal, with the normal from A to B.
+    const Vec3 witness = on_a ? Vec3(c + ball.radius * out.normal) : Vec3(c - ball.radius * out.normal);
+    const Distance_hierarchy& H = on_a ? HA : HB;
+    const Rigid_pose_3& X_W = on_a ? X_WA : X_WB;
+    std::array<double, 2> q{{0.0, 0.0}};
+    if (!ball_params(H, X_W, witness, q)) q = {0.0, 0.0};
+    (on_a ? out.point_a : out.point_b) = witness;
+    (on_a ? out.kind_a : out.kind_b) = Element_kind::Face;
+    (on_a ? out.element_a : out.element_b) = 0;
+    (on_a ? out.face_a : out.face_b) = 0;
+    (on_a ? out.params_a : out.params_b) = q;
+    if (out.is_certified())
+      out.status = out.lower_bound >= -out.tolerance_used ? Signed_distance_status::Touching
+                                                          : Signed_distance_status::Penetrating;
+    out.depth_is_translation_distance = false;
+  } else if (overlap == Overlap_kind::None) {
     out.status = from_distance_status(r.status);
     if (unknown && out.status == Signed_distance_status::Converged)
       out.status = Signed_distance_status::Containment_unknown;

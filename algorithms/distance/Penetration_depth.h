@@ -24,6 +24,12 @@
 //   - A point inside a closed body: s = minus its certified distance to the body's surface,
 //     the minimum translation distance (depth_is_translation_distance), whatever the body's
 //     shape; the witnesses and bounds are that distance's.
+//   - A ball (certified_ball) overlapping a closed body that is not certified convex: its
+//     centre's signed distance (as a point's) less its radius; the ball's witness is the
+//     centre moved along the normal by the radius. Not a translation distance in general.
+//   - Bodies with no inside to be deep in, whose surfaces meet: a point on any body, or a
+//     curve, a point or an open mesh meeting a body that is not closed: the distance, 0
+//     (status Touching); these pairs are never negative (docs/behaviour.md, "Overlap").
 //
 // Certificate of the depth. For any unit n, certified upper bounds on h come from the control
 // points of the Bezier pieces (a rational piece with positive weights lies in the convex hull
