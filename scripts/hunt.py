@@ -3,6 +3,7 @@
 
     scripts/hunt.py OUT_DIR --seeds S[,S...] [--count N] [--steps K] [--heavy P]
                     [--hours H] [--occt-samples M] [--timeout T] [--log FILE]
+                    [--doctor lower_bound|value|sign]
     scripts/hunt.sh HOURS [SEED]           # the long run (fresh seeds until the time is up)
 
 Each seed S writes N scenes (scene k drawn from random.Random(S * 1000 + k), so a seed and an
@@ -29,7 +30,9 @@ reproducer: the scene file, t, the pair, the check, what was expected and what t
 and the command that replays it. A scene whose check crashes (a signal, or the run threw) or
 passes the timeout is logged as such. The last lines sum up: seeds, scenes, pairs, rows checked
 per check, wrong rows per class, OpenCASCADE rows. OUT_DIR/summary.json holds the same.
-Exit code 0 when no row is wrong and nothing crashed, 3 otherwise (timeouts alone: 0, listed).
+--doctor passes verify_report's self-test on (rows made wrong before they are judged; the
+apart rows BRepExtrema sees are the doctored ones): tests/hunt/check_hunt.py shows each way is
+caught. Exit code 0 when no row is wrong and nothing crashed, 3 otherwise (timeouts alone: 0, listed).
 """
 import argparse
 import importlib.util
