@@ -83,42 +83,6 @@ struct Options {
   bool rows = false;
 };
 
-TopoDS_Shape moved(const TopoDS_Shape& s, const Rigid_pose_3& X) {
-  const Mat3& R = X.rotation();
-  const Vec3& p = X.translation();
-  gp_Trsf T;
-  T.SetValues(R(0, 0), R(0, 1), R(0, 2), p.x(), R(1, 0), R(1, 1), R(1, 2), p.y(), R(2, 0),
-              R(2, 1), R(2, 2), p.z());
-  return BRepBuilderAPI_Transform(s, T, true).Shape();
-}
-
-Handle(Geom_BSplineCurve) curve_to_occt(const Nurbs_curve_3& c) {
-  const int n = c.number_of_poles();
-  TColgp_Array1OfPnt poles(1, n);
-  TColStd_Array1OfReal weights(1, n);
-  for (int i = 0; i < n; ++i) {
-    const Point_3& p = c.poles()[i];
-    poles.SetValue(i + 1, gp_Pnt(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())));
-    weights.SetValue(i + 1, c.is_rational() ? c.weights()[i] : 1.0);
-  }
-  std::vector<double> u;
-  std::vector<int> m;
-  for (double x : c.knots()) {
-    if (!u.empty() && x == u.back()) ++m.back();
-    else {
-      u.push_back(x);
-      m.push_back(1);
-    }
-  }
-  TColStd_Array1OfReal knots(1, static_cast<int>(u.size()));
-  TColStd_Array1OfInteger mults(1, static_cast<int>(u.size()));
-  for (std::size_t i = 0; i < u.size(); ++i) {
-    knots.SetValue(static_cast<int>(i) + 1, u[i]);
-    mults.SetValue(static_cast<int>(i) + 1, m[i]);
-  }
-  return new Geom_BSplineCurve(poles, weights, knots, mults, c.degree());
-}
-
 // Our body's geometry as a shape in its body frame, or why not.
 std::optional<TopoDS_Shape> from_geometry(const Body& b, int max_triangles, std::string& why) {
   BRep_Builder builder;
@@ -140,7 +104,7 @@ std::optional<TopoDS_Shape> from_geometry(const Body& b, int max_triangles, std:
     builder.Add(c, face.Face());
   }
   for (const Nurbs_curve_3& k : b.curves)
-    builder.Add(c, BRepBuilderAPI_MakeEdge(curve_to_occt(k), k.domain_min(), k.domain_max()).Edge());
+    builder.Add(c, BRepBuilderAPI_MakeEdge(bench::to_occt(k), k.domain_min(), k.domain_max()).Edge());
   if (static_cast<int>(b.mesh.triangles.size()) > max_triangles) {
     why = "mesh over --max-triangles";
     return std::nullopt;
@@ -354,7 +318,7 @@ int main(int argc, char** argv) {
       }
       auto place = [&](const Occt_body& b, const io::Scene_body& s) {
         const Rigid_pose_3 entry = s.motion.pose_at(t);
-        return moved(b.shape, b.file_frame ? entry : entry * s.body.placement);
+        return bench::moved(b.shape, b.file_frame ? entry : entry * s.body.placement);
       };
       double occt = HUGE_VAL;
       bool inner = false;

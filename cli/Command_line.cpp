@@ -155,24 +155,25 @@ Command_line parse_command_line(int argc, const char* const* argv, std::ostream&
       "stderr.\n"
       "Exit codes: 0 success, 1 bad input or unwritable output (message on stderr), 2 usage error.");
 
-
   // Import limits (io::Import_limits).
+  // Their defaults are Import_limits{}'s, shown by CLI11 from the bound fields.
   app.add_option("--max-patch-poles", cl.limits.max_patch_poles,
-                 "Refuse a STEP/IGES file with a B-spline of more control points (default "
-                 "250000; 0: no limit)")
-      ->check(CLI::NonNegativeNumber);
+                 "Refuse a STEP/IGES file with a B-spline of more control points (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--max-total-poles", cl.limits.max_total_poles,
                  "Refuse a STEP/IGES file whose B-splines have more control points in all "
-                 "(default 10000000; 0: no limit)")
-      ->check(CLI::NonNegativeNumber);
+                 "(0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--import-memory-mb", cl.limits.max_memory_mb,
-                 "Stop reading a STEP/IGES/BREP file that needs more memory, in MiB (default "
-                 "4096; 0: no limit)")
-      ->check(CLI::NonNegativeNumber);
+                 "Stop reading a STEP/IGES/BREP file that needs more memory, in MiB (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--import-seconds", cl.limits.max_seconds,
-                 "Stop reading a STEP/IGES/BREP file after this many seconds (default 600; 0: "
-                 "no limit)")
-      ->check(CLI::Range(0.0, 1e9));
+                 "Stop reading a STEP/IGES/BREP file after this many seconds (0: no limit)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);

@@ -89,14 +89,7 @@ _info_cache = {}
 def file_info(path, binary):
     """Body count, box centre and half diagonal (file frame) of a file, from `extremal info`."""
     if path not in _info_cache:
-        out = subprocess.run([binary, "info", path, "--json"], check=True, capture_output=True,
-                             text=True).stdout
-        boxes = [b["bbox"] for b in json.loads(out)["bodies"]]
-        lo = [min(b[i] for b in boxes) for i in range(3)]
-        hi = [max(b[3 + i] for b in boxes) for i in range(3)]
-        centre = [(lo[i] + hi[i]) / 2 for i in range(3)]
-        radius = 0.5 * math.sqrt(sum((hi[i] - lo[i]) ** 2 for i in range(3)))
-        _info_cache[path] = (len(boxes), centre, radius)
+        _info_cache[path] = probe.bodies_box(path, binary)
     return _info_cache[path]
 
 

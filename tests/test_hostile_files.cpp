@@ -45,6 +45,14 @@ struct Step_face {
     knots.push_back(1.0);
     mults.push_back(4);
   }
+  // An n x n grid of control points on uniform knots.
+  static Step_face grid(int n) {
+    Step_face f;
+    f.nu = f.nv = n;
+    uniform(n, f.u_knots, f.u_mults);
+    uniform(n, f.v_knots, f.v_mults);
+    return f;
+  }
 
   std::string text(const std::string& from = "", const std::string& to = "") const {
     std::string s;
@@ -240,13 +248,11 @@ TEST(HostileStep, WellFormedFaceReads) {
 }
 
 TEST(HostileStep, MillionPoleSurfaceIsRefusedByThePatchLimitBeforeOpenCascadeReadsIt) {
-  Step_face f;
-  f.nu = f.nv = 1000;
-  Step_face::uniform(f.nu, f.u_knots, f.u_mults);
-  Step_face::uniform(f.nv, f.v_knots, f.v_mults);
+  const Step_face f = Step_face::grid(1000);
   const std::string path = write_file("million_poles.stp", f.text());
   const std::vector<std::string> parts = {"STEP #20 (B_SPLINE_SURFACE_WITH_KNOTS)",
-                                          "1000000 control points", "250000",
+                                          "1000000 control points",
+                                          std::to_string(Import_limits{}.max_patch_poles),
                                           "max_patch_poles", "--max-patch-poles"};
   // The limit holds even with OpenCASCADE in this process: the scan refuses the text.
   Read_options in_process;
@@ -266,10 +272,7 @@ TEST(HostileStep, MillionPoleSurfaceIsRefusedByThePatchLimitBeforeOpenCascadeRea
 }
 
 TEST(HostileStep, PatchAndTotalLimitsAreConfigurable) {
-  Step_face f;
-  f.nu = f.nv = 30;
-  Step_face::uniform(f.nu, f.u_knots, f.u_mults);
-  Step_face::uniform(f.nv, f.v_knots, f.v_mults);
+  const Step_face f = Step_face::grid(30);
   const std::string path = write_file("grid30.stp", f.text());
   Read_options options;
   options.limits.max_patch_poles = 899;

@@ -32,6 +32,10 @@ namespace extremal::io::internal {
 
 namespace {
 
+// IGES entity types (IGES 5.3, section 4): the rational B-spline curve and surface.
+constexpr long long kIgesBsplineCurve = 126;
+constexpr long long kIgesBsplineSurface = 128;
+
 // Parenthesis nesting of one STEP entity: B-spline surfaces with weights nest 4 deep inside a
 // complex instance; 64 leaves room for any schema and bounds the recursive parse below.
 constexpr int kMaxStepNesting = 64;
@@ -915,7 +919,7 @@ class Iges_scan {
                std::to_string(pointer) + " to " + std::to_string(pointer + count - 1) +
                ") lie outside the file's " + std::to_string(m_parameters.size()) +
                " parameter lines");
-      if (type != 126 && type != 128) continue;
+      if (type != kIgesBsplineCurve && type != kIgesBsplineSurface) continue;
       const auto p = parameters(static_cast<std::size_t>(pointer), static_cast<std::size_t>(count), storage);
       const std::string what = label + " (type " + std::to_string(type) + ")";
       std::uint64_t poles = 0;
@@ -937,7 +941,7 @@ class Iges_scan {
   // recorded against the entity. Returns false when the counts are unusable.
   bool check_bspline(long long type, const std::vector<std::string_view>& p, const std::string& what,
                      std::uint64_t& poles) {
-    const bool surface = type == 128;
+    const bool surface = type == kIgesBsplineSurface;
     const std::size_t n_ints = surface ? 5 : 3;  // type, K1, K2, M1, M2 / type, K, M
     std::vector<long long> v(n_ints, 0);
     for (std::size_t i = 1; i < n_ints; ++i)

@@ -20,6 +20,7 @@
 
 #include "io/Model_reader.h"
 #include "kernel/Error.h"
+#include "Use_model.h"
 
 namespace extremal::fuzz {
 
@@ -67,16 +68,7 @@ inline int read_cad_file(const std::uint8_t* data, std::size_t size, io::Model_f
   options.limits.max_memory_mb = kFuzzReadMemoryMb;
   try {
     const io::Model m = io::read_model(path, options);
-    for (const auto& body : m.bodies) {
-      (void)body.trimmed_bbox();
-      for (const auto& f : body.faces) {
-        const auto& s = f.surface;
-        for (int i = 0; i <= 4; ++i)
-          for (int j = 0; j <= 4; ++j)
-            (void)f.contains(s.u_min() + (s.u_max() - s.u_min()) * i / 4.0,
-                             s.v_min() + (s.v_max() - s.v_min()) * j / 4.0);
-      }
-    }
+    use_model(m);
   } catch (const Invalid_input& e) {
     // Every refusal names the file.
     if (std::string(e.what()).find(path) == std::string::npos) {
