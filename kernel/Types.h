@@ -54,4 +54,10 @@ inline double box_support(const Bbox_3& b, const Vec3& n) {
   return n.dot(c) + n.cwiseAbs().dot(h);
 }
 
+// Whether the point p (in the box's frame) lies in the closed box.
+inline bool box_contains(const Bbox_3& b, const Vec3& p) {
+  return p.x() >= b.xmin() && p.x() <= b.xmax() && p.y() >= b.ymin() && p.y() <= b.ymax() &&
+         p.z() >= b.zmin() && p.z() <= b.zmax();
+}
+
 }  // namespace extremal

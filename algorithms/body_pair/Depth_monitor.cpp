@@ -141,11 +141,15 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
                                      const Rigid_pose_3& X_WB, bool local_seeds_failed,
                                      double deeper, const Overlap_test* known) {
   keep_solved(g);
-  m_solved.lower_bound = g.lower_bound;
   const Distance_hierarchy& HA = m_context.model_a->hierarchy();
   const Distance_hierarchy& HB = m_context.model_b->hierarchy();
   const Overlap_test overlap =
       known != nullptr ? *known : overlap_of(g, HA, X_WA, m_context.kind.closed(0), HB, X_WB, m_context.kind.closed(1));
+  // g's bound is on the surfaces' distance: the bodies' only where neither holds the other.
+  if (overlap.kind == Overlap_kind::None && !overlap.unknown) {
+    m_solved.lower_bound = g.lower_bound;
+    m_outside = {true, m_context.now.relative, std::max(g.lower_bound, 0.0)};
+  }
   if (overlap.kind == Overlap_kind::None) return false;
   // Where the surfaces meet, the hulls' depth is the bodies' own when both are convex, or
   // when each witness lies inside the other body (two cylinders side by side); not so for a
@@ -363,14 +367,42 @@ bool Depth_monitor::open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pos
   return false;
 }
 
+bool Depth_monitor::nested(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double lower) {
+  const Pair_context& c = m_context;
+  const bool closed_a = c.kind.closed(0), closed_b = c.kind.closed(1);
+  if (!closed_a && !closed_b) return false;
+  // Every point moved by less than the surfaces' distance at a pose found outside: still so.
+  if (m_outside.valid &&
+      approach_bound(c.model_a->box(), c.model_b->box(), m_outside.at, c.now.relative).most <
+          m_outside.lower)
+    return false;
+  const Live* held = nullptr;
+  for (const Live& L : m_live.slots())
+    if (L.alive && L.valid && (held == nullptr || L.result.distance < held->result.distance)) held = &L;
+  if (held == nullptr) return false;
+  // A body inside the other has each of its points inside the other's box, then inside it.
+  const auto inside = [&](int holder, const Rigid_pose_3& X_W, const Vec3& x_W) {
+    const Tracking_model& m = c.model(holder);
+    return box_contains(m.box(), X_W.inverse().apply_point(x_W)) &&
+           inside_body(m.hierarchy(), X_W, x_W, c.options.contact_tolerance);
+  };
+  if ((closed_b && inside(1, X_WB, held->result.point_a)) ||
+      (closed_a && inside(0, X_WA, held->result.point_b))) {
+    m_outside.valid = false;
+    return true;
+  }
+  m_outside = {true, c.now.relative, std::max(lower, 0.0)};
+  return false;
+}
+
 bool Depth_monitor::meeting_point(const Rigid_pose_3& X_WA, Vec3& x) const {
   const Pair_context& c = m_context;
-  if (!m_meets_at_valid || !m_meets || m_meet_pa < 0 ||
-      c.now.relative.rotation() != m_meets_at.rotation() ||
-      c.now.relative.translation() != m_meets_at.translation())
+  if (!m_meet.at_valid || !m_meet.meets || m_meet.pa < 0 ||
+      c.now.relative.rotation() != m_meet.at.rotation() ||
+      c.now.relative.translation() != m_meet.at.translation())
     return false;
   Feature_point p;
-  evaluate_feature(c.model_a->primitives()[m_meet_pa].feature, X_WA, m_meet_params.data(), p, 0);
+  evaluate_feature(c.model_a->primitives()[m_meet.pa].feature, X_WA, m_meet.params.data(), p, 0);
   x = p.p;
   return x.allFinite();
 }

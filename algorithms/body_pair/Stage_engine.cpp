@@ -110,6 +110,18 @@ void Stage_engine::certify_apart() {
     m_notes.certificate = m_candidates->certify_apart(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best);
 }
 
+void Stage_engine::check_nested() {
+  // The surfaces' certified distance is the bodies' only while neither holds the other: a
+  // body found inside is solved as lost (the hulls' depth where no tracker takes it), and a
+  // tracker reading apart is no answer.
+  if (!m_notes.apart || !m_depth.nested(*m_context.now.X_WA, *m_context.now.X_WB,
+                                        m_notes.certificate.lower))
+    return;
+  m_notes.certificate = {};
+  solve_lost();
+  m_notes.meets = true;
+}
+
 void Stage_engine::solve_where_met() {
   // A pair certified to meet while every tracker read the bodies apart (the trackers on its
   // surfaces hold nothing): they are not apart. The whole pair is solved as one lost (the
@@ -216,7 +228,8 @@ const Pair_answer& Stage_engine::step(const Pair_step& step) {
   // The stages of a step, in order; after each, step_trackers() if it changed the live set.
   static constexpr Stage k_stages[] = {
       &Stage_engine::monitor_depth,         &Stage_engine::update_candidates,
-      &Stage_engine::certify_apart,         &Stage_engine::solve_where_met,
+      &Stage_engine::certify_apart,         &Stage_engine::check_nested,
+      &Stage_engine::solve_where_met,
       &Stage_engine::check_held,            &Stage_engine::seed_in_contact,
       &Stage_engine::check_contact_depth,   &Stage_engine::resolve_start_overlap,
       &Stage_engine::check_held,            &Stage_engine::solve_if_lost,
@@ -277,9 +290,11 @@ void Stage_engine::make_answer() {
     for (int c = 0; c < da; ++c) r.params[c] = qa[c];
     for (int c = 0; c < db; ++c) r.params[da + c] = qb[c];
   }
-  // The certification's bound of this step, or the solver's when it answered.
+  // The certification's bound of this step, or the solver's when it solved at this step (its
+  // bound holds whatever reading is reported: a tracker it seeded this step reads no
+  // certificate of its own; test Overlap.APointThroughASheetReadsItsUnsignedDistance).
   double lower = m_notes.certificate.lower;
-  if (solved && s.step == m_context.now.steps) lower = std::max(lower, s.lower_bound);
+  if (s.step == m_context.now.steps) lower = std::max(lower, s.lower_bound);
   r.lower_bound.reset();
   if (lower > -HUGE_VAL) r.lower_bound = lower;
 }

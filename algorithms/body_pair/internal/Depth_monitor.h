@@ -39,6 +39,7 @@ class Depth_monitor {
     m_sheet_side = Vec3::Zero();
     m_meet.pa = -1;
     m_meet.at_valid = false;
+    m_outside.valid = false;
   }
   // A point of A where the surfaces meet at this step's relative pose, in the world, as the
   // last check found it (open_pair_overlaps). False: none found at this pose.
@@ -56,6 +57,13 @@ class Depth_monitor {
   // other), its pair replaces the trackers deeper than it. True if it changed them. Not
   // inside (`best` at or above minus the contact tolerance): forgets the last check.
   bool check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double best, bool force);
+  // Apart by the trackers (`lower`: this step's certified bound on the surfaces' distance, or
+  // below 0 if none): whether a closed body holds the other (a witness of the held pair inside
+  // it). The surfaces' distance says nothing of that: a body carried inside another in one
+  // step reads apart. Asked again only once either body moved, relative to the other, by the
+  // surfaces' certified distance at the last pose found outside (test
+  // Overlap.APartCarriedIntoASolidInOneStepReadsItsDepth).
+  bool nested(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double lower);
   // When one body lies inside the other (g apart), or both are convex and g says their
   // surfaces meet: a tracker, through contact, on the penetration pair of their hulls (of a
   // point inside a body: g's pair, its distance from the surface). Keeps the answer of g (or
@@ -104,6 +112,13 @@ class Depth_monitor {
     double value = HUGE_VAL;
     Rigid_pose_3 at;
   } m_checked;
+  // The last relative pose at which neither body was found inside the other while apart, and
+  // the surfaces' certified distance there (nested()).
+  struct {
+    bool valid = false;
+    Rigid_pose_3 at;
+    double lower = 0.0;
+  } m_outside;
   // A solid against an open body: the normal of the last report that read them apart or in
   // contact, in A's frame (zero: none since the start).
   Vec3 m_sheet_side = Vec3::Zero();

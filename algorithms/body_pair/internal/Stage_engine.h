@@ -52,6 +52,8 @@ class Stage_engine final : public Pair_engine {
   void monitor_depth();
   void update_candidates();
   void certify_apart();
+  // Apart by the trackers while a closed body holds the other: solved as lost, no certificate.
+  void check_nested();
   void solve_where_met();
   // After a solve that found the surfaces meeting: a tracker reading apart is no answer.
   void check_held();
