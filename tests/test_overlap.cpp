@@ -120,7 +120,7 @@ Sweep_counts run(const char* name, const Sweep& s) {
                                     << ", one-shot " << ref.distance << " "
                                     << to_string(ref.overlap) << " " << to_string(ref.status));
     ++c.steps;
-    if (std::getenv("OVERLAP_TRACE"))
+    if (std::getenv("OVERLAP_TRACE"))  // (every step printed, to diagnose a sweep)
       std::printf("  %s %d z=%.4f row %.6g %s lb %s src %d | ref %.6g %s\n", name, i, at.z(), r.distance,
                   to_string(r.status), r.lower_bound ? std::to_string(*r.lower_bound).c_str() : "-",
                   static_cast<int>(r.solved), ref.distance, to_string(ref.overlap));
@@ -238,6 +238,30 @@ TEST(Overlap, SolidSolidReadsTheDepthReachedThroughContactWhileTheyOverlap) {
   };
   s.tolerance = 0.02;
   expect_through(run("solid-solid", s));
+}
+
+TEST(Overlap, APartCarriedIntoASolidInOneStepReadsItsDepth) {
+  // The ellipsoid jumps from above the cylinder to inside it, its surface never meeting the
+  // cylinder's at a step: inside, its depth is the translation distance out through a cap.
+  const Body& a = cylinder();
+  const Body& b = ellipsoid();
+  Body_pair_tracker tracker(a, b);
+  const Rigid_pose_3 X_WA;
+  const double dt = 0.01;
+  const Vec3 at[] = {Vec3(0, 0, 2.0), Vec3(0, 0, 1.9), Vec3(0, 0, 0.5), Vec3(0, 0, 0.45),
+                     Vec3(0, 0, 0.4)};
+  for (int i = 0; i < 5; ++i) {
+    const Rigid_pose_3 X_WB(Mat3::Identity(), at[i]);
+    const Pair_report& r = tracker.step(i * dt, X_WA, Twist_3{}, X_WB, Twist_3{}, dt);
+    const double exact = at[i].z() > 1.4 ? at[i].z() - 1.4 : -std::min(1.4 - at[i].z(), at[i].z() + 0.4);
+    SCOPED_TRACE(testing::Message() << "step " << i << ": row " << r.distance << " "
+                                    << to_string(r.status));
+    EXPECT_NEAR(r.distance, exact, 0.02);
+    if (exact < 0.0) {
+      EXPECT_EQ(r.status, Pair_status::Penetrating);
+      EXPECT_FALSE(r.lower_bound.has_value());
+    }
+  }
 }
 
 TEST(Overlap, SolidThroughASheetKeepsItsEntrySidesDepthWhileTheSurfacesMeet) {
@@ -431,16 +455,16 @@ TEST(Overlap, DISABLED_ACurveInAClosedMeshReadsItsDeepestPointsDepth) {  // not 
   expect_through(run("curve-closed mesh", s));
 }
 
-TEST(Overlap, DISABLED_ACurveThroughAnOpenMeshIsUnsignedAndZeroWhileItPiercesIt) {  // not yet: see the point 2
-  // A rod along y through the turned square: it pierces it while |z| < 0.2.
+TEST(Overlap, ACurveThroughAnOpenMeshIsUnsignedAndZeroWhileItPiercesIt) {
+  // A vertical rod (length 3) down through the flat square: it pierces it while |z| < 1.5.
+  static const Body post = segment(Vec3(0, 0, -1.5), Vec3(0, 0, 1.5), "post");
   Sweep s;
-  s.a = &square();
-  s.b = &rod();
-  s.turn_b = about_z(M_PI / 2);
+  s.a = &floor_square();
+  s.b = &post;
   s.sides = Sides::Unsigned;
-  s.from = Vec3(0.1, 0, 0.73);
-  s.to = Vec3(0.1, 0, -0.67);
-  s.exact = [](const Vec3& p) { return std::abs(p.z()) < 0.2 ? 0.0 : NAN; };
+  s.from = Vec3(0.1, 0.2, 2.23);
+  s.to = Vec3(0.1, 0.2, -2.17);
+  s.exact = [](const Vec3& p) { return std::max(std::abs(p.z()) - 1.5, 0.0); };
   s.tolerance = 1e-8;
   expect_through(run("curve-open mesh", s));
 }
@@ -511,13 +535,14 @@ TEST(Overlap, APointInAClosedMeshReadsMinusItsDistanceToTheSurface) {
   expect_through(run("closed mesh-point", s));
 }
 
-TEST(Overlap, DISABLED_ABallInAClosedMeshReadsItsCentresSignedDistanceLessItsRadius) {  // not yet: see the point 2
+TEST(Overlap, ABallInAClosedMeshReadsItsCentresSignedDistanceLessItsRadius) {
+  // (Off the wall: at x = 0.3 the ball would touch it from within all the way.)
   static const Body ball = make_sphere_body(0.2, "ball");
   Sweep s;
   s.a = &large_box();
   s.b = &ball;
-  s.from = Vec3(0.3, 0, 1.03);
-  s.to = Vec3(0.3, 0, -0.97);
+  s.from = Vec3(0.2, 0, 1.03);
+  s.to = Vec3(0.2, 0, -0.97);
   s.exact = [](const Vec3& p) { return box_signed_distance(k_large_box, p) - 0.2; };
   s.tolerance = 1e-8;
   expect_through(run("closed mesh-ball", s));

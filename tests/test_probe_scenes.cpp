@@ -211,6 +211,103 @@ TEST(ProbeScenes, ASolidThroughASheetAndOutPastItsBorderIsApart) {
 // corner, converged along its one free parameter. As a flat pair it has one basin, so its
 // reading was taken for the pair's minimum: rows read 658.5 to 474.9 with that as their
 // certified lower bound, where the bodies were 656.5 to 397.1 apart.
+TEST(ProbeScenes, APartCarriedIntoAnotherBetweenStepsReadsItsDepthNotTheGap) {
+  // (Hunt seed 1006, scene 5.) Between t = 2.7 and 3.1 linkrods goes inside the cornetta
+  // (closed); its held pair reads the surfaces' gap, +22.77 with a bound of 5.07, where the
+  // depth is -7.39.
+  const io::Model cornetta = io::read_model(shared_data("step/bug27693_cornetta-step.stp"));
+  const io::Model linkrods = io::read_model(shared_data("step/linkrods.step"));
+  ASSERT_EQ(cornetta.bodies.size(), 1u);
+  ASSERT_EQ(linkrods.bodies.size(), 1u);
+  const Body& a = linkrods.bodies[0];
+  const Body& b = cornetta.bodies[0];
+  const auto motion = [](const std::vector<std::array<double, 8>>& rows) {
+    std::vector<Keyframe> frames;
+    for (const auto& r : rows)
+      frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
+                                                            r[6], r[7])});
+    return Motion::keyframes(frames);
+  };
+  const Motion motion_a = motion({
+      {1.5, -17.712554372429906, 14.296785428083375, 27.025269781991053, 0.8512609614163847, 0.18832015795606505, -0.0743552299347248, -0.4841090718600607},
+      {2.498827144159443, 6.463417728321, -6.06157439288565, 27.18941832459065, 0.8709352141379346, -0.2432410906092347, 0.28717826316340195, -0.3159656148700225},
+      {3.5, 36.18286365636259, -21.634146879535294, 24.159011549662893, 0.4767561489953678, -0.6514533994895686, 0.5734576329775443, -0.13949331836465542}});
+  const Motion motion_b = motion({
+      {1.5, 192.25000873482222, -137.59403709064594, -387.81336704969493, 0.47145578554641254, -0.8701089720697915, -0.13579753886373686, -0.04689186962595547},
+      {2.66794549003882, 46.78228427028837, -25.00157906357851, -56.29218876958992, 0.8451569580404041, -0.07886700553789866, -0.3913630035848069, 0.3554218776868608},
+      {3.467750449217122, -53.91510836667962, 52.09290347177168, 171.54535644037728, 0.5718601670540935, 0.318657935820473, -0.3220468378047936, 0.6838997759434},
+      {3.5, -57.78394396179927, 55.33842313916792, 181.1689802339472, 0.6255949644870813, 0.5279806673113118, -0.4238920296126996, 0.3875343889059857}});
+  Body_pair_tracker tracker(a, b);
+  int nested = 0;
+  for (int k = 0; k <= 5; ++k) {
+    const double t = 1.5 + 0.4 * k;
+    const Rigid_pose_3 X_WA = motion_a.pose_at(t) * a.placement;
+    const Rigid_pose_3 X_WB = motion_b.pose_at(t) * b.placement;
+    const Pair_report& r = tracker.step(t, X_WA, motion_a.twist_at(t), X_WB, motion_b.twist_at(t), 0.4);
+    const Signed_distance_result ref = signed_distance(a, X_WA, b, X_WB);
+    ASSERT_TRUE(ref.is_certified()) << "t = " << t;
+    if (ref.overlap == Overlap_kind::A_inside_B) {
+      ++nested;
+      EXPECT_EQ(r.status, Pair_status::Penetrating) << "t = " << t << ": " << r.distance;
+      EXPECT_FALSE(r.lower_bound.has_value()) << "t = " << t;
+    } else if (ref.overlap == Overlap_kind::None && r.lower_bound) {
+      EXPECT_LE(*r.lower_bound, ref.upper_bound * (1.0 + 1e-12)) << "t = " << t;
+    }
+  }
+  EXPECT_GE(nested, 1);
+}
+
+TEST(ProbeScenes, ASheetThroughAPlaneAndOutReadsItsDistanceNotADepth) {
+  // (Hunt seed 1009, scene 2.) At t = 11/6 the step's first tracked reading is apart; a later
+  // stage seeds a pair behind the plane, which read -155.53 while the sheet is 155.53 away.
+  const io::Model sheets = io::read_model(shared_data("step/OCC22459-TEST2.stp"));
+  const Body& sheet = sheets.bodies.at(0);
+  const Body plane = make_plane_body(2608.1730657186877, 2280.9191049702085);
+  Twist_3 plane_twist;
+  plane_twist.linear = Vec3(3925.145289098882, -1531.2764073145672, -2279.248467204183);
+  plane_twist.angular = Vec3(0.017822345600710006, 0.012718827785036404, 0.0013147387862830187);
+  const Motion plane_motion = Motion::twist(
+      Rigid_pose_3::from_quaternion(Vec3(-6121.048435278145, 1332.9684312740633, 2372.7768428477125),
+                                    0.4982181190510355, 0.12141666406942986, -0.7927413089827957,
+                                    -0.3295419799778823),
+      plane_twist, 0.0);
+  const std::vector<std::array<double, 8>> rows = {
+      {0.0, -5910.184808394254, 3038.4538627996662, -878.2725326890968, 0.8556950106158357, -0.19695600881998676, 0.37837468214046893, 0.2929624196240283},
+      {0.16666666666666666, -5508.297590108268, 2428.670228038335, -976.7671568529738, 0.9011585610160255, -0.2030455866043533, 0.2754478058136594, 0.2661094585700799},
+      {0.3333333333333333, -5038.32157844466, 1838.1566280539823, -1115.256899632572, 0.9345294279544103, -0.20641048738586848, 0.16882468415328963, 0.23568556384486714},
+      {0.5, -4492.626224131792, 1266.4276584829868, -1276.5665097651956, 0.9553598064073362, -0.20700555742379076, 0.059936097174915215, 0.20209899493179595},
+      {0.6666666666666666, -3867.631666847835, 711.9930106376983, -1442.2999622559887, 0.9633701726772897, -0.2048228114490259, -0.049756774734465346, 0.16580045136811095},
+      {0.8333333333333333, -3164.0002437592702, 172.43719719765863, -1593.8245738305966, 0.9584530353327895, -0.19989153981877877, -0.15878195845558082, 0.12727702478943426},
+      {1.0, -2386.601057070644, -355.4512286575316, -1713.2677786810236, 0.9406743776402854, -0.19227791546805606, -0.26567644060417417, 0.0870456626272531},
+      {1.1666666666666665, -1544.2494960831914, -875.5078733924181, -1784.473240897275, 0.9102727721320173, -0.182084105932354, -0.3690057997672374, 0.04564623117026588},
+      {1.3333333333333333, -649.2356483143545, -1391.9873131579127, -1793.86515530583, 0.8676561791914804, -0.16944690235733526, -0.4673834550624218, 0.003634271076648876},
+      {1.5, 283.33317215948375, -1909.3354905924516, -1731.1744999974194, 0.8133964726164106, -0.15453588389286974, -0.5594892727234141, -0.03842645744867981},
+      {1.6666666666666665, 1236.3406069725445, -2431.9518742638706, -1589.9883888718077, 0.7482217656209832, -0.1375511421035105, -0.6440872810287572, -0.07997153977522908},
+      {1.8333333333333333, 2191.5769117581062, -2963.9541042924457, -1368.0931359850683, 0.6730066402549132, -0.11872059593163264, -0.7200422558567574, -0.12044348074986728}};
+  std::vector<Keyframe> frames;
+  for (const auto& r : rows)
+    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
+                                                          r[6], r[7])});
+  const Motion sheet_motion = Motion::keyframes(frames, Motion::Type::Table);
+  Body_pair_tracker tracker(sheet, plane);
+  int apart = 0;
+  for (const auto& row : rows) {
+    const double t = row[0];
+    const Rigid_pose_3 X_WA = sheet_motion.pose_at(t) * sheet.placement;
+    const Rigid_pose_3 X_WB = plane_motion.pose_at(t);
+    const Pair_report& r = tracker.step(t, X_WA, sheet_motion.twist_at(t), X_WB,
+                                        plane_motion.twist_at(t), 1.0 / 6.0);
+    const Signed_distance_result ref = signed_distance(sheet, X_WA, plane, X_WB);
+    ASSERT_TRUE(ref.is_certified()) << "t = " << t;
+    if (ref.overlap != Overlap_kind::None) continue;
+    ++apart;
+    // Apart: the distance, never a depth.
+    EXPECT_NEAR(r.distance, ref.distance, 1e-6 * std::max(1.0, ref.distance)) << "t = " << t;
+    if (r.lower_bound) { EXPECT_LE(*r.lower_bound, ref.upper_bound * (1.0 + 1e-12)) << "t = " << t; }
+  }
+  EXPECT_GE(apart, 7);
+}
+
 TEST(ProbeScenes, ASheetsEdgeHeldOnAPlanesCornerIsNoCertificate) {
   const io::Model sheets = io::read_model(shared_data("step/OCC22459-TEST2.stp"));
   const Body& sheet = sheets.bodies.at(2);

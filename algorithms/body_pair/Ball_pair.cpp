@@ -91,23 +91,13 @@ void Ball_pair::start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
 
 void Ball_pair::farther(double box_bound, const Rigid_pose_3& relative) {
   m_centres.farther(box_bound, relative);
-  m_deep = false;
   m_last_lower = box_bound;  // (the boxes of the centres less the radii bound the balls)
   m_last_relative = relative;
 }
 
-void Ball_pair::add_statistics(Pair_statistics& s) const {
-  m_centres.add_statistics(s);
-  if (!m_bodies) return;
-  Pair_statistics bodies;
-  m_bodies->add_statistics(bodies);
-  add_counters(s, bodies);
-  if (m_deep) s.trackers = bodies.trackers, s.candidates = bodies.candidates;  // (it answers)
-}
+void Ball_pair::add_statistics(Pair_statistics& s) const { m_centres.add_statistics(s); }
 
-double Ball_pair::audit_time_us() const {
-  return m_centres.audit_time_us() + (m_bodies ? m_bodies->audit_time_us() : 0.0);
-}
+double Ball_pair::audit_time_us() const { return m_centres.audit_time_us(); }
 
 double Ball_pair::box_bound(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const {
   Rigid_pose_3 XA, XB;
@@ -144,25 +134,12 @@ Error_budget Ball_pair::centre_budget(const Error_budget& given, const Rigid_pos
 }
 
 const Pair_answer& Ball_pair::step(const Pair_step& step) {
-  if (m_deep) {
-    const Pair_answer& deep = m_bodies->step(step);
-    if (!(deep.distance > -(1.0 - k_ball_leaves) * m_radii)) return deep;
-    m_deep = false;
-    m_centres.restart();
-  }
   Rigid_pose_3 XA, XB;
   Twist_3 VA, VB;
   place(0, step.X_WA, step.V_A, XA, VA);
   place(1, step.X_WB, step.V_B, XB, VB);
   const Pair_answer& inner = m_centres.step(
       {step.t, step.dt, XA, VA, XB, VB, centre_budget(step.budget, step.X_WA, step.X_WB)});
-  if (!(inner.distance > k_ball_enters * m_radii)) {
-    // The centre near or inside the other body: the balls' own surfaces, through contact.
-    if (!m_bodies) m_bodies = std::make_unique<Stage_engine>(m_given[0], m_given[1], m_options);
-    m_bodies->restart();
-    m_deep = true;
-    return m_bodies->step(step);
-  }
   move_out(inner, step);
   return m_answer;
 }

@@ -466,8 +466,13 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
       if (x[k] < box.min(k) - margin || x[k] > box.max(k) + margin) witness_out = true;
   }
   // (The normal form holds for the step that reached a depth in one stride: fast motion.)
+  // A point in a closed body reads minus its distance to the nearest surface point: a minimum
+  // over the surface, solved at each step it moved, whatever its depth (test
+  // Contact.ABallTouchingACylindersCapFromWithinReadsItsDepth, the ball as its centre).
+  const bool point_in_closed = point && (c.kind.closed(0) || c.kind.closed(1));
   if ((!solid_a && !solid_b) || deepest == nullptr || deepest->closed_form ||
-      (deepest->result.normal_form && -best <= k_deep_band * size && !force && !witness_out)) {
+      (deepest->result.normal_form && -best <= k_deep_band * size && !force && !witness_out &&
+       !point_in_closed)) {
     m_checked.value = HUGE_VAL;
     return false;
   }
@@ -486,6 +491,9 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
           ? approach_bound(c.model_a->box(), c.model_b->box(), m_checked.at, c.now.relative).closer
           : HUGE_VAL;
   bool moved = point && std::isfinite(m_checked.value) && moved_by > step;
+  if (point_in_closed)
+    moved = !std::isfinite(m_checked.value) || c.now.relative.rotation() != m_checked.at.rotation() ||
+            c.now.relative.translation() != m_checked.at.translation();
   if (!point && !against_sheet && std::isfinite(m_checked.value)) {
     const Vec3 cb = box_centre(c.model_b->box()), ca = box_centre(c.model_a->box());
     const double b_moved = (c.now.relative.apply_point(cb) - m_checked.at.apply_point(cb)).norm();

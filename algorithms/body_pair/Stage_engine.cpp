@@ -202,6 +202,16 @@ void Stage_engine::audit() {
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
 }
 
+void Stage_engine::check_late_depth() {
+  // A pair whose surfaces do not meet reads no depth unless a closed body holds the other; a
+  // tracker seeded by a later stage (a closer basin behind a sheet) reads one only once
+  // Depth_monitor::check confirms it, as monitor_depth does the step's first reading (test
+  // ProbeScenes.ASheetThroughAPlaneAndOutReadsItsDistanceNotADepth).
+  if (m_context.kind.solid_or_point(0) && m_context.kind.solid_or_point(1)) return;
+  if (m_tracked.best < -m_context.options.contact_tolerance)
+    m_depth.check(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best, false);
+}
+
 void Stage_engine::solve_if_unheld() {
   // No tracker holds at the end of the step while the solver's last answer is an earlier
   // step's: solved again, so that no row repeats an earlier step's answer (test
@@ -235,7 +245,7 @@ const Pair_answer& Stage_engine::step(const Pair_step& step) {
       &Stage_engine::check_held,            &Stage_engine::solve_if_lost,
       &Stage_engine::check_held,            &Stage_engine::merge_duplicates,
       &Stage_engine::audit,                 &Stage_engine::solve_if_unheld,
-      &Stage_engine::check_held,
+      &Stage_engine::check_late_depth,      &Stage_engine::check_held,
   };
   step_trackers();
   for (const Stage stage : k_stages) {

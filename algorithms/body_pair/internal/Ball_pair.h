@@ -3,10 +3,10 @@
 // a point body at the ball's centre, two or three parameters fewer for every primitive pair,
 // and the answer is moved out by the radius. Only against bodies whose inside a point's sign
 // tells (closed bodies, points, balls): across an open sheet a ball keeps the side it entered
-// by (docs/behaviour.md), which its centre's unsigned distance does not. And only while the
-// centre is outside the other body: deeper, the ball's own surface is tracked (the depth
-// monitor's rules are the solids'). So it owns two engines: the centre's, and the bodies' as
-// given for a ball deep in the other body. Test BodyScenes.ABallIsTrackedAsItsCentre. Not API.
+// by (docs/behaviour.md), which its centre's unsigned distance does not. Inside a closed body
+// too: the row is the centre's signed distance less the radius (docs/behaviour.md, "Overlap").
+// Tests BodyScenes.ABallIsTrackedAsItsCentre,
+// Overlap.ABallInAClosedMeshReadsItsCentresSignedDistanceLessItsRadius. Not API.
 #pragma once
 
 #include <array>
@@ -33,8 +33,7 @@ class Ball_pair final : public Pair_engine {
   Ball_pair& operator=(const Ball_pair&) = delete;
 
   void start(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) override;
-  // A ball deep in the other body: its surface's answer, until its centre is back out by a
-  // fraction of its radius; otherwise the centre's, certified at the given budget, moved out.
+  // The centre's answer, certified at the given budget, moved out by the radii.
   const Pair_answer& step(const Pair_step& step) override;
   void farther(double box_bound, const Rigid_pose_3& relative) override;
   void add_statistics(Pair_statistics& s) const override;
@@ -72,8 +71,6 @@ class Ball_pair final : public Pair_engine {
   double m_radii = 0.0;  // the sum of the radii tracked as centres
   Body_pair_options m_options;
   Stage_engine m_centres;  // the pair with each ball as its centre's point
-  std::unique_ptr<Stage_engine> m_bodies;  // the bodies as given (made on first use)
-  bool m_deep = false;  // m_bodies answers
   Pair_answer m_answer;
   // The last answer's lower bound on the given pair's distance and the relative pose it held
   // at (-infinity: none).

@@ -64,6 +64,8 @@ class Stage_engine final : public Pair_engine {
   void merge_duplicates();
   void audit();
   void solve_if_unheld();
+  // A depth first read by a later stage, between bodies not both closed: checked as at the start.
+  void check_late_depth();
   // The certified solver seeds again when no tracker holds a pair.
   void solve_lost();
   void make_answer();

@@ -97,14 +97,6 @@ constexpr int k_witness_corrections = 10;
 // Its first start: the nearest of a grid of this many intervals per parameter over the face.
 constexpr int k_witness_start_grid = 16;
 constexpr double k_witness_tolerance = 1e-12;
-// A ball's surface is tracked instead of its centre once the centre comes within this fraction
-// of the radius of the other body (its centre about to go in), and its centre again once that
-// lies this fraction of the radius outside (hysteresis: no switching back and forth). Shown by
-// Contact.ABallRisingInACylinderLeavesThroughItsCap and
-// BodyScenes.ABallInsideANonConvexPartIsNeverApart.
-constexpr double k_ball_enters = 0.25;
-constexpr double k_ball_leaves = 0.5;
-
 // ---- Broad phase (Kept_proof_stage) ------------------------------------------------------
 // Default broad-phase margin: this fraction of the smaller body's diagonal. Set by bench
 // compare (b), (c).
