@@ -276,9 +276,9 @@ TEST(Overlap, SolidThroughASheetKeepsItsEntrySidesDepthWhileTheSurfacesMeet) {
   expect_through(run("solid-sheet", s));
 }
 
-TEST(Overlap, DISABLED_ACurveInASolidReadsItsDeepestPointsDepth) {  // not yet: see the point 2
-  // A rod across the cylinder, down and out: inside, its middle is the deepest, as deep as
-  // the nearer cap (its translation distance: the rod is convex).
+TEST(Overlap, DISABLED_ACurveInASolidReadsTheDepthReachedThroughContact) {  // not yet: see the point 2
+  // A rod across the cylinder, down and out: inside, the translation out through the nearer
+  // cap (the rod's middle is as deep: the rod is convex).
   Sweep s;
   s.a = &cylinder();
   s.b = &rod();
@@ -308,7 +308,7 @@ TEST(Overlap, DISABLED_SolidAndClosedMeshReadTheDepthReachedThroughContact) {  /
   expect_through(run("solid-closed mesh", s));
 }
 
-TEST(Overlap, DISABLED_AnOpenMeshInASolidReadsItsDeepestPointsDepth) {  // not yet: see the point 2
+TEST(Overlap, DISABLED_AnOpenMeshInASolidReadsTheDepthReachedThroughContact) {  // not yet: see the point 2
   // A square turned 30 degrees (z in [-0.2, 0.2] about its centre) down the cylinder's axis.
   Sweep s;
   s.a = &cylinder();
@@ -444,7 +444,7 @@ TEST(Overlap, TwoCurvesReadTheirUnsignedDistanceZeroWhereTheyCross) {
   expect_through(run("curve-curve", s));
 }
 
-TEST(Overlap, DISABLED_ACurveInAClosedMeshReadsItsDeepestPointsDepth) {  // not yet: see the point 2
+TEST(Overlap, DISABLED_ACurveInAClosedMeshReadsTheHullsDepth) {  // not yet: see the point 2
   Sweep s;
   s.a = &large_box();
   s.b = &rod();
