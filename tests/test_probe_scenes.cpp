@@ -204,13 +204,40 @@ TEST(ProbeScenes, ASolidThroughASheetAndOutPastItsBorderIsApart) {
   }
 }
 
-// scripts/probe-scenes.py --seed 777 --heavy, scene 10: OCC22459-TEST2.stp's third sheet (A,
-// static) against a plane (B) turning as it passes (its poses from t = 0.42 to 0.5, the table
-// rows). The tracker on A's straight edge 5 against the plane started on the plane's corner;
-// the pair's minimum then moved along the plane's side, and the tracker stayed held on the
-// corner, converged along its one free parameter. As a flat pair it has one basin, so its
-// reading was taken for the pair's minimum: rows read 658.5 to 474.9 with that as their
-// certified lower bound, where the bodies were 656.5 to 397.1 apart.
+TEST(ProbeScenes, TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep) {
+  // (Hunt seed 1002, scene 4.) Faces 2 and 4 of BUC50025.igs cross by a few 1e-4; each step is
+  // solved. At t = 1.2 the step's solve spent its 50,000 nodes with its bound at 0 and its
+  // witness 1.35e-6 apart: the row read that, `uncertified`, while the surfaces meet.
+  const io::Model part = io::read_model(shared_data("iges/BUC50025.igs"));
+  ASSERT_GE(part.bodies.size(), 4u);
+  const Body& a = part.bodies[1];
+  const Body& b = part.bodies[3];
+  std::vector<Keyframe> frames;
+  for (const auto& r : std::vector<std::array<double, 8>>{
+      {0.0, 32.05141900334135, 53.1663480512009, 35.3972742604882, 0.9124653935674379, 0.13219437662009537, 0.3222337673232726, -0.21470200634483128},
+      {0.001276499672955289, 41.55132614264923, 47.698400664704614, 39.96298241249419, 0.9125212029465471, 0.19364022960074798, 0.14497159244258986, -0.3298359486742098},
+      {0.7301134325836227, -2.8134366794885457, 14.224155447631379, -23.26471149157482, 0.9101591619272534, -0.37171700939501295, -0.09592238672417353, 0.15567806721386845},
+      {1.8632025700629733, -10.032850481551735, -76.3593639428014, -45.134562892306306, -0.0400877228216176, -0.5545314754445916, -0.08430696809398347, 0.8269100025704259},
+      {2.0, -14.234223895660788, -80.78608035829973, -52.946116195112424, 0.07383615673080354, -0.7678794780072051, -0.1342640610482025, 0.6219987870771545}})
+    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
+                                                          r[6], r[7])});
+  const Motion motion = Motion::keyframes(frames);
+  Body_pair_tracker tracker(a, b);
+  int meeting = 0;
+  for (int k = 0; k <= 5; ++k) {
+    const double t = 0.4 * k;
+    const Rigid_pose_3 X_W = motion.pose_at(t);
+    const Rigid_pose_3 X_WA = X_W * a.placement, X_WB = X_W * b.placement;
+    const Pair_report& r = tracker.step(t, X_WA, motion.twist_at(t), X_WB, motion.twist_at(t), 0.4);
+    const Signed_distance_result ref = signed_distance(a, X_WA, b, X_WB);
+    ASSERT_TRUE(ref.is_certified()) << "t = " << t;
+    if (ref.overlap != Overlap_kind::Surfaces_meet) continue;
+    ++meeting;
+    EXPECT_EQ(r.status, Pair_status::Penetrating) << "t = " << t << ": " << r.distance;
+  }
+  EXPECT_EQ(meeting, 6);
+}
+
 TEST(ProbeScenes, APartCarriedIntoAnotherBetweenStepsReadsItsDepthNotTheGap) {
   // (Hunt seed 1006, scene 5.) Between t = 2.7 and 3.1 linkrods goes inside the cornetta
   // (closed); its held pair reads the surfaces' gap, +22.77 with a bound of 5.07, where the
@@ -308,6 +335,13 @@ TEST(ProbeScenes, ASheetThroughAPlaneAndOutReadsItsDistanceNotADepth) {
   EXPECT_GE(apart, 7);
 }
 
+// scripts/probe-scenes.py --seed 777 --heavy, scene 10: OCC22459-TEST2.stp's third sheet (A,
+// static) against a plane (B) turning as it passes (its poses from t = 0.42 to 0.5, the table
+// rows). The tracker on A's straight edge 5 against the plane started on the plane's corner;
+// the pair's minimum then moved along the plane's side, and the tracker stayed held on the
+// corner, converged along its one free parameter. As a flat pair it has one basin, so its
+// reading was taken for the pair's minimum: rows read 658.5 to 474.9 with that as their
+// certified lower bound, where the bodies were 656.5 to 397.1 apart.
 TEST(ProbeScenes, ASheetsEdgeHeldOnAPlanesCornerIsNoCertificate) {
   const io::Model sheets = io::read_model(shared_data("step/OCC22459-TEST2.stp"));
   const Body& sheet = sheets.bodies.at(2);

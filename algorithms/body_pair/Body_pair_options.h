@@ -84,6 +84,11 @@ struct Body_pair_options {
     r.symmetry_bounds = false;
     return r;
   }();
+  // A global solve that spends its node budget with its bound at or below contact_tolerance and
+  // its witness above it has neither parted the surfaces nor found where they meet (a shallow
+  // crossing): it is solved again with this many nodes, the one-shot distance's default.
+  // Shown by ProbeScenes.TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep.
+  int undecided_max_nodes = Distance_request{}.max_nodes;
 };
 
 }  // namespace extremal

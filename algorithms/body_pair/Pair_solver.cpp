@@ -10,8 +10,16 @@ Distance_result Pair_solver::global(const Rigid_pose_3& X_WA, const Rigid_pose_3
   Distance_request request = c.options.global;
   request.absolute_tolerance = std::min(request.absolute_tolerance, c.now.budget.absolute);
   request.relative_tolerance = std::min(request.relative_tolerance, c.now.budget.relative);
-  return extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB, request,
-                           m_workspace);
+  Distance_result g = extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB,
+                                       request, m_workspace);
+  const double tol = c.options.contact_tolerance;
+  if (g.status == Distance_status::Budget_exhausted && g.lower_bound <= tol && g.distance > tol &&
+      request.max_nodes < c.options.undecided_max_nodes) {
+    request.max_nodes = c.options.undecided_max_nodes;
+    g = extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB, request,
+                          m_workspace);
+  }
+  return g;
 }
 
 }  // namespace extremal::internal

@@ -13,7 +13,8 @@ class Pair_solver {
   explicit Pair_solver(const Pair_context& context) : m_context(context) {}
 
   // The global solver on the whole pair (Body_pair_options::global, at most this step's
-  // budget), counted.
+  // budget; solved again with undecided_max_nodes where it could neither part the surfaces nor
+  // find where they meet), counted.
   Distance_result global(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
   Distance_workspace& workspace() { return m_workspace; }
   // Global solves so far (Pair_statistics::audits).
