@@ -118,6 +118,12 @@ int main(int argc, char** argv) {
   CLI::Option* relative_tolerance_opt = report_cmd->add_option("--relative-tolerance", relative_tolerance,
                          "Error budget, relative to the distance (default 1e-9, or the scene's)")
       ->check(budget_check(true));
+  double memory_limit_mib = 0.0;
+  CLI::Option* memory_limit_opt = report_cmd->add_option("--memory-limit", memory_limit_mib,
+                         "Most memory one pair's candidate stage may hold, in MiB (default 1024, "
+                         "or the scene's \"tracker.memory_limit_mib\"); past it the pair is "
+                         "certified by the global solver and its rows say memory_limit")
+      ->check(CLI::PositiveNumber);
   double clearance = 0.0;
   CLI::Option* clearance_opt = report_cmd->add_option("--clearance", clearance,
                          "Clearance D (scene units): pairs closer than D, not in contact, are of "
@@ -169,6 +175,7 @@ int main(int argc, char** argv) {
     if (tolerance_opt->count()) report.tolerance = tolerance;
     if (relative_tolerance_opt->count()) report.relative_tolerance = relative_tolerance;
     if (clearance_opt->count()) report.clearance = clearance;
+    if (memory_limit_opt->count()) report.memory_limit_mib = memory_limit_mib;
     return extremal::cli::run_report(report);
   }
   if (tessellate_cmd->parsed()) return extremal::cli::run_tessellate(tessellate);

@@ -52,6 +52,9 @@ class Stage_engine final : public Pair_engine {
   void monitor_depth();
   void update_candidates();
   void certify_apart();
+  // Over the memory limit (Candidate_stage::over_limit): the global solver's bound is the
+  // step's certificate, and its witness seeds a tracker where closer than the tracked one.
+  void certify_by_global();
   void solve_where_met();
   // After a solve that found the surfaces meeting: a tracker reading apart is no answer.
   void check_held();
@@ -99,6 +102,7 @@ class Stage_engine final : public Pair_engine {
     double audit_us = 0.0;  // time spent in audits
   } m_notes;
   long m_reseeds = 0;  // trackers the global solves re-seeded
+  long m_memory_limited = 0;  // steps over the memory limit
 };
 
 }  // namespace extremal::internal
