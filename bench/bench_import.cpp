@@ -4,7 +4,9 @@
 //   occt_check    BRepCheck_Analyzer of every solid (or of the whole shape if it has none)
 //   occt_convert  BRepBuilderAPI_NurbsConvert of the same pieces
 //                 (the last two: OpenCASCADE work our reader adds on top of the read)
-//   extremal      io::read_model (what `extremal info FILE` spends reading)
+//   extremal      io::read_model (what `extremal info FILE` spends reading: OpenCASCADE in a
+//                 child process, docs/import.md "Limits and containment")
+//   in_process    io::read_model with Import_limits::isolate off (OpenCASCADE in this process)
 // For .brep files the OpenCASCADE read is BRepTools::Read. `--write-offset-faces DIR` first writes
 // two faces on offset surfaces there (offset_bspline.brep: a bicubic patch offset by 2 mm, which
 // OpenCASCADE approximates keeping its parameters; offset_cylinder.brep: a cylinder offset by
@@ -137,10 +139,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_import [--repeat N] [--write-offset-faces DIR] FILE...\n");
     return 2;
   }
-  std::printf("%-28s %6s %11s %12s %14s %12s %7s\n", "file", "faces", "occt_read_s",
-              "occt_check_s", "occt_convert_s", "extremal_s", "ratio");
+  std::printf("%-28s %6s %11s %12s %14s %12s %7s %13s\n", "file", "faces", "occt_read_s",
+              "occt_check_s", "occt_convert_s", "extremal_s", "ratio", "in_process_s");
+  extremal::io::Read_options in_process;
+  in_process.limits.isolate = false;
   for (const std::string& f : files) {
-    std::vector<double> t_read, t_check, t_conv, t_ours;
+    std::vector<double> t_read, t_check, t_conv, t_ours, t_in;
     int faces = 0;
     for (int k = 0; k < repeat; ++k) {
       TopoDS_Shape shape;
@@ -149,13 +153,14 @@ int main(int argc, char** argv) {
       t_conv.push_back(seconds([&] { occt_convert(shape); }));
       extremal::io::Model m;
       t_ours.push_back(seconds([&] { m = extremal::io::read_model(f); }));
+      t_in.push_back(seconds([&] { m = extremal::io::read_model(f, in_process); }));
       faces = 0;
       for (const auto& b : m.bodies) faces += static_cast<int>(b.faces.size());
     }
     const double r = median(t_read), k = median(t_check), c = median(t_conv), o = median(t_ours);
     const std::string name = f.substr(f.find_last_of('/') + 1);
-    std::printf("%-28s %6d %11.3f %12.3f %14.3f %12.3f %7.2f\n", name.c_str(), faces, r, k, c, o,
-                o / r);
+    std::printf("%-28s %6d %11.3f %12.3f %14.3f %12.3f %7.2f %13.3f\n", name.c_str(), faces, r, k,
+                c, o, o / r, median(t_in));
   }
   return 0;
 }

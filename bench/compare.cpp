@@ -184,15 +184,6 @@ Mesh occt_mesh(const TopoDS_Shape& shape, double deflection) {
   return m;
 }
 
-TopoDS_Shape moved(const TopoDS_Shape& s, const Rigid_pose_3& X) {
-  const Mat3& R = X.rotation();
-  const Vec3& p = X.translation();
-  gp_Trsf T;
-  T.SetValues(R(0, 0), R(0, 1), R(0, 2), p.x(), R(1, 0), R(1, 1), R(1, 2), p.y(), R(2, 0),
-              R(2, 1), R(2, 2), p.z());
-  return BRepBuilderAPI_Transform(s, T, true).Shape();
-}
-
 // ---- measurements ---------------------------------------------------------------------------
 
 struct Row {
@@ -418,8 +409,8 @@ Row run_brep(const Scenario& s, Reference_cache& ref, const std::vector<long>& f
   row.setting = "deflection 1e-7";
   for (long k : frames) {
     const double t = k * s.reference_dt;
-    const TopoDS_Shape sa = moved(s.occt_a, s.motion_a.pose_at(t));
-    const TopoDS_Shape sb = moved(s.occt_b, s.motion_b.pose_at(t));
+    const TopoDS_Shape sa = bench::moved(s.occt_a, s.motion_a.pose_at(t));
+    const TopoDS_Shape sb = bench::moved(s.occt_b, s.motion_b.pose_at(t));
     double d = k_nan;
     const auto t0 = Clock::now();
     try {
@@ -669,7 +660,7 @@ Scenario step_parts(bool quick, const std::string& data, bool& ok) {
   const double reach_b = half(box_b).norm();
   const Rigid_pose_3 recentre(Mat3::Identity(), -box_centre(box_b));
   s.b.placement = recentre * s.b.placement;
-  s.occt_b = moved(s.occt_b, recentre);
+  s.occt_b = bench::moved(s.occt_b, recentre);
   const Vec3 start = box_centre(box_a) + Vec3(half(box_a).x() + reach_b + 0.1 * size_a, -size_a, 0.0);
   Twist_3 v;
   v.linear = Vec3(0.0, size_a, 0.0);

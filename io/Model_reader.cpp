@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "io/internal/Readers.h"
@@ -148,13 +149,24 @@ Model read_impl(const std::string& name, const std::string& bytes, bool on_disk,
     case Model_format::Step:
     case Model_format::Iges:
     case Model_format::Brep: {
+      // The text is checked before OpenCASCADE sees it; OpenCASCADE runs in a child process
+      // (docs/import.md, "Limits and containment").
+      internal::Cad_scan scan;
+      if (f == Model_format::Step) internal::scan_step(name, bytes, options.limits, scan);
+      if (f == Model_format::Iges) internal::scan_iges(name, bytes, options.limits, scan);
+      const auto read = [&](const std::string& path) {
+        if (options.limits.isolate)
+          internal::read_occt_isolated(path, name, f, options, scan, model);
+        else
+          internal::read_occt(path, f, options, scan, model);
+      };
       if (on_disk) {
-        internal::read_occt(name, f, options, model);
+        read(name);
       } else {
         const Temp_file tmp(f == Model_format::Step ? "stp" : f == Model_format::Iges ? "igs" : "brep",
                             bytes);
         try {
-          internal::read_occt(tmp.path(), f, options, model);
+          read(tmp.path());
         } catch (const Invalid_input& e) {
           std::string msg = e.what();
           const auto at = msg.find(tmp.path());
@@ -179,6 +191,30 @@ Model read_impl(const std::string& name, const std::string& bytes, bool on_disk,
 }
 
 }  // namespace
+
+namespace {
+
+std::mutex& limits_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+Import_limits& process_limits() {
+  static Import_limits limits;
+  return limits;
+}
+
+}  // namespace
+
+Import_limits default_import_limits() {
+  const std::lock_guard<std::mutex> lock(limits_mutex());
+  return process_limits();
+}
+
+void set_default_import_limits(const Import_limits& limits) {
+  const std::lock_guard<std::mutex> lock(limits_mutex());
+  process_limits() = limits;
+}
 
 double unit_in_millimetres(const std::string& unit) {
   static const std::map<std::string, double> units = {

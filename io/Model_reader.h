@@ -9,6 +9,7 @@
 // No OpenCASCADE or assimp type appears here: readers live in io/internal/*.cpp.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,32 @@ enum class Model_format { Automatic, Step, Iges, Brep, Obj_freeform, Mesh };
 // Length units we know, with their size in millimetres.
 // Returns 0 for an unknown name. Accepts "mm", "cm", "m", "um", "in", "ft", "km", "nm", ...
 double unit_in_millimetres(const std::string& unit);
+
+// Bounds on what reading one STEP, IGES or BREP file may take. Checked in two places: a scan
+// of the file's text before OpenCASCADE sees it (the control-point counts, which are what a
+// small hostile file uses to make a reader allocate without bound), and the child process that
+// runs OpenCASCADE's reader (memory and time; docs/import.md, "Limits and containment").
+// A file beyond a limit is refused with an Invalid_input naming the file, the entity and the
+// limit. 0 turns a limit off.
+struct Import_limits {
+  // Control points of one B-spline surface (all rows) or curve.
+  std::size_t max_patch_poles = 250'000;
+  // Control points of all B-spline surfaces and curves of the file together.
+  std::size_t max_total_poles = 10'000'000;
+  // Resident memory of the reading process, in MiB (MiB = 2^20 bytes).
+  std::size_t max_memory_mb = 4096;
+  // Wall-clock time of the OpenCASCADE reading, in seconds.
+  double max_seconds = 600.0;
+  // Read STEP, IGES and BREP in a child process (the memory and time limits need it, and a
+  // crash inside OpenCASCADE becomes an Invalid_input instead of ending the caller). Off: in
+  // this process, with only the scan's limits.
+  bool isolate = true;
+};
+
+// The limits a default-constructed Read_options starts from: Import_limits{} until a program
+// (the CLI's --max-patch-poles and friends) sets others, before it reads any file.
+Import_limits default_import_limits();
+void set_default_import_limits(const Import_limits& limits);
 
 struct Read_options {
   // Lengths in the result are in this unit; files are converted from their declared unit.
@@ -35,6 +62,7 @@ struct Read_options {
   double trim_tolerance = 1e-5;
   // Also build Face::trims for bare surfaces that have none (their natural domain boundary).
   bool keep_untrimmed = true;
+  Import_limits limits = default_import_limits();
 };
 
 // An entity of the file that is not in the model (or is only partly), and why.

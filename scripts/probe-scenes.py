@@ -48,8 +48,8 @@ HEAVY_FILES = [
 ]
 
 
-def box_of(target, binary):
-    """Centre and half-diagonal of the union of the boxes `extremal info` gives."""
+def bodies_box(target, binary):
+    """Body count, and centre and half-diagonal of the union of the boxes `extremal info` gives."""
     out = subprocess.run([binary, "info", target, "--json"], check=True, capture_output=True,
                          text=True).stdout
     boxes = [b["bbox"] for b in json.loads(out)["bodies"]]
@@ -57,7 +57,12 @@ def box_of(target, binary):
     hi = [max(b[3 + i] for b in boxes) for i in range(3)]
     centre = [(lo[i] + hi[i]) / 2 for i in range(3)]
     radius = 0.5 * math.sqrt(sum((hi[i] - lo[i]) ** 2 for i in range(3)))
-    return centre, radius
+    return len(boxes), centre, radius
+
+
+def box_of(target, binary):
+    """Centre and half-diagonal of the union of the boxes `extremal info` gives."""
+    return bodies_box(target, binary)[1:]
 
 
 def random_shape(rng, size):

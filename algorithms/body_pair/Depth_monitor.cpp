@@ -324,27 +324,28 @@ bool Depth_monitor::open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pos
                                        bool& seeded) {
   seeded = false;
   const Pair_context& c = m_context;
-  if (m_meets_at_valid && c.now.relative.rotation() == m_meets_at.rotation() &&
-      c.now.relative.translation() == m_meets_at.translation())
-    return m_meets;
-  m_meets_at = c.now.relative;
-  m_meets_at_valid = m_meets = true;
+  if (m_meet.at_valid && c.now.relative.rotation() == m_meet.at.rotation() &&
+      c.now.relative.translation() == m_meet.at.translation())
+    return m_meet.meets;
+  m_meet.at = c.now.relative;
+  m_meet.at_valid = m_meet.meets = true;
   const double tol = c.options.contact_tolerance;
-  if (m_meet_pa >= 0 && common_point(*c.model_a, m_meet_pa, X_WA, *c.model_b, m_meet_pb, X_WB,
-                                     m_meet_params, tol))
+  if (m_meet.pa >= 0 && common_point(*c.model_a, m_meet.pa, X_WA, *c.model_b, m_meet.pb, X_WB,
+                                     m_meet.params, tol))
     return true;
-  m_meet_pa = -1;
+  m_meet.pa = -1;
   const Distance_result g = m_solver.global(X_WA, X_WB);
   if (g.status == Distance_status::Intersecting || g.status == Distance_status::Touching) {
-    m_meet_pa = c.model_a->primitive_of(g.kind_a, g.element_a);
-    m_meet_pb = c.model_b->primitive_of(g.kind_b, g.element_b);
-    if (m_meet_pa >= 0 && m_meet_pb >= 0) {
-      m_meet_params.setZero();
-      params_from_global(c.model_a->primitives()[m_meet_pa], g.params_a, m_meet_params.data());
-      params_from_global(c.model_b->primitives()[m_meet_pb], g.params_b,
-                         m_meet_params.data() + c.model_a->primitives()[m_meet_pa].feature.dimension());
+    m_meet.pa = c.model_a->primitive_of(g.kind_a, g.element_a);
+    m_meet.pb = c.model_b->primitive_of(g.kind_b, g.element_b);
+    if (m_meet.pa >= 0 && m_meet.pb >= 0) {
+      m_meet.params.setZero();
+      params_from_global(c.model_a->primitives()[m_meet.pa], g.params_a, m_meet.params.data());
+      params_from_global(c.model_b->primitives()[m_meet.pb], g.params_b,
+                         m_meet.params.data() +
+                             c.model_a->primitives()[m_meet.pa].feature.dimension());
     } else {
-      m_meet_pa = -1;
+      m_meet.pa = -1;
     }
     return true;
   }
@@ -353,10 +354,10 @@ bool Depth_monitor::open_pair_overlaps(const Rigid_pose_3& X_WA, const Rigid_pos
   if (overlap.kind != Overlap_kind::None || overlap.unknown || !g.is_certified() ||
       !(g.lower_bound > 0.0))
     return true;  // (not shown apart: the trackers stand)
-  m_meets = false;
+  m_meet.meets = false;
   drop_inside(HUGE_VAL);
   m_seeding.seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
-  m_checked = HUGE_VAL;
+  m_checked.value = HUGE_VAL;
   seeded = true;
   return false;
 }
@@ -381,7 +382,7 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   const Pair_context& c = m_context;
   const double tol = c.options.contact_tolerance;
   if (!(best < -tol)) {
-    m_checked = HUGE_VAL;
+    m_checked.value = HUGE_VAL;
     return false;
   }
   // A penetrating row of bodies not both closed needs their surfaces meeting (or a closed one
@@ -422,28 +423,29 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   // (The normal form holds for the step that reached a depth in one stride: fast motion.)
   if ((!solid_a && !solid_b) || deepest == nullptr || deepest->closed_form ||
       (deepest->result.normal_form && -best <= k_deep_band * size && !force && !witness_out)) {
-    m_checked = HUGE_VAL;
+    m_checked.value = HUGE_VAL;
     return false;
   }
   const double step = k_deep_growth * size;
   // Against a sheet, growth counts from the shallowest depth since the last check (a shallower
   // pair that took over must not wait to pass the deeper one's level: test
   // ProbeScenes.AScrewPushedThroughAPlaneIsApartOnceOut).
-  if (against_sheet && std::isfinite(m_checked)) m_checked = std::max(m_checked, best);
+  if (against_sheet && std::isfinite(m_checked.value))
+    m_checked.value = std::max(m_checked.value, best);
   // A point inside a body is checked again as it moves (its depth's nearest face changes
   // without the depth growing); two solids once either box centre moved k_deep_motion_steps
   // growth steps relative to the other (test Contact.ABallRisingInACylinderLeavesThroughItsCap;
   // the centres, not the boxes' bound, so a shaft turning in its bore is not checked again).
   const double moved_by =
-      std::isfinite(m_checked)
-          ? approach_bound(c.model_a->box(), c.model_b->box(), m_checked_at, c.now.relative).closer
+      std::isfinite(m_checked.value)
+          ? approach_bound(c.model_a->box(), c.model_b->box(), m_checked.at, c.now.relative).closer
           : HUGE_VAL;
-  bool moved = point && std::isfinite(m_checked) && moved_by > step;
-  if (!point && !against_sheet && std::isfinite(m_checked)) {
+  bool moved = point && std::isfinite(m_checked.value) && moved_by > step;
+  if (!point && !against_sheet && std::isfinite(m_checked.value)) {
     const Vec3 cb = box_centre(c.model_b->box()), ca = box_centre(c.model_a->box());
-    const double b_moved = (c.now.relative.apply_point(cb) - m_checked_at.apply_point(cb)).norm();
+    const double b_moved = (c.now.relative.apply_point(cb) - m_checked.at.apply_point(cb)).norm();
     const double a_moved =
-        (c.now.relative.inverse().apply_point(ca) - m_checked_at.inverse().apply_point(ca)).norm();
+        (c.now.relative.inverse().apply_point(ca) - m_checked.at.inverse().apply_point(ca)).norm();
     moved = std::max(a_moved, b_moved) > k_deep_motion_steps * step;
   }
   // A solid against a sheet comes apart in one step with a jump of the local depth: checked
@@ -457,9 +459,9 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     const Vec3 n = (solid_a ? X_WA : X_WB).rotation().transpose() * deepest->result.normal;
     past_sheet = -best >= box_support(box, n) + box_support(box, -n);
   }
-  const bool moved_since = !std::isfinite(m_checked) ||
-                           c.now.relative.rotation() != m_checked_at.rotation() ||
-                           c.now.relative.translation() != m_checked_at.translation();
+  const bool moved_since = !std::isfinite(m_checked.value) ||
+                           c.now.relative.rotation() != m_checked.at.rotation() ||
+                           c.now.relative.translation() != m_checked.at.translation();
   if (against_sheet && !point && !past_sheet && moved_since) {
     const Distance_hierarchy& S = c.model(solid_a ? 0 : 1).hierarchy();
     const Rigid_pose_3& X = solid_a ? X_WA : X_WB;
@@ -470,9 +472,9 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     past_sheet = -best >= support_bound(S, X, n, request).lower +
                               support_bound(S, X, -n, request).lower - c.depth_tolerance(best);
   }
-  if (!(best < m_checked - step) && !moved && !past_sheet && !force && !witness_out) return false;
-  m_checked = best;
-  m_checked_at = c.now.relative;
+  if (!(best < m_checked.value - step) && !moved && !past_sheet && !force && !witness_out) return false;
+  m_checked.value = best;
+  m_checked.at = c.now.relative;
   const Distance_result g = m_solver.global(X_WA, X_WB);
   const Overlap_test overlap = overlap_of(g, c.model_a->hierarchy(), X_WA, c.kind.closed(0),
                                           c.model_b->hierarchy(), X_WB, c.kind.closed(1));
@@ -480,7 +482,7 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     if (overlap.unknown || !g.is_certified() || !(g.lower_bound > 0.0)) return false;
     drop_inside(HUGE_VAL);  // apart after all: the certified pair
     m_seeding.seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity());
-    m_checked = HUGE_VAL;
+    m_checked.value = HUGE_VAL;
     return true;
   }
   if (against_sheet) return false;
@@ -489,7 +491,7 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
   // translation distance), trackers deeper than it go and its pair is tracked (seed_overlap).
   if (!seed_overlap(g, X_WA, X_WB, true, best, &overlap)) return false;
   const double d = m_solved.distance;
-  m_checked = d;
+  m_checked.value = d;
   drop_inside(d - c.depth_tolerance(d));
   return true;
 }

@@ -203,10 +203,10 @@ void Tracking_model::build_primitives() {
     p.feature = Feature::point(Vec3::Zero());
     p.box = Point_3(0, 0, 0).bbox();
     p.global_element = m_hierarchy->element_of(Element_kind::Point, 0);
-    m_point_primitive = 0;
+    m_links.point_primitive = 0;
     m_primitives.push_back(p);
   }
-  m_face_primitive.assign(body.faces.size(), -1);
+  m_links.face_primitive.assign(body.faces.size(), -1);
   for (std::size_t i = 0; i < body.faces.size(); ++i) {
     const Face& f = body.faces[i];
     Primitive p;
@@ -216,10 +216,10 @@ void Tracking_model::build_primitives() {
     p.box = f.surface.hull_bbox();
     if (f.trim_region.is_trimmed()) p.trim = &f.trim_region;
     p.global_element = m_hierarchy->element_of(Element_kind::Face, p.index);
-    m_face_primitive[i] = static_cast<int>(m_primitives.size());
+    m_links.face_primitive[i] = static_cast<int>(m_primitives.size());
     m_primitives.push_back(p);
   }
-  m_curve_primitive.assign(body.curves.size(), -1);
+  m_links.curve_primitive.assign(body.curves.size(), -1);
   for (std::size_t i = 0; i < body.curves.size(); ++i) {
     Primitive p;
     p.kind = Primitive_kind::Curve;
@@ -227,7 +227,7 @@ void Tracking_model::build_primitives() {
     p.feature = Feature::curve(body.curves[i]);
     p.box = body.curves[i].hull_bbox();
     p.global_element = m_hierarchy->element_of(Element_kind::Curve, p.index);
-    m_curve_primitive[i] = static_cast<int>(m_primitives.size());
+    m_links.curve_primitive[i] = static_cast<int>(m_primitives.size());
     m_primitives.push_back(p);
   }
   add_brep_edges();
@@ -288,7 +288,7 @@ void Tracking_model::measure_flatness() {
 
 void Tracking_model::add_brep_edges() {
   const Body& body = m_body;
-  m_edge_primitive.assign(body.edges.size(), -1);
+  m_links.edge_primitive.assign(body.edges.size(), -1);
   std::vector<std::pair<int, int>> face_edge;  // (face primitive, edge primitive)
   for (std::size_t k = 0; k < body.edges.size(); ++k) {
     const Edge& edge = body.edges[k];
@@ -299,16 +299,16 @@ void Tracking_model::add_brep_edges() {
     Nurbs_curve_3 c = *edge.curve;
     if (t0 > c.domain_min()) c = split(c, t0).second;
     if (t1 < c.domain_max()) c = split(c, t1).first;
-    m_own_curves.push_back(std::make_unique<Nurbs_curve_3>(std::move(c)));
+    m_own.curves.push_back(std::make_unique<Nurbs_curve_3>(std::move(c)));
     Primitive p;
     p.kind = Primitive_kind::Edge;
     p.index = static_cast<int>(k);
-    p.feature = Feature::curve(*m_own_curves.back());
-    p.box = m_own_curves.back()->hull_bbox();
+    p.feature = Feature::curve(*m_own.curves.back());
+    p.box = m_own.curves.back()->hull_bbox();
     p.global_element =
         m_hierarchy->element_of(Element_kind::Curve, static_cast<int>(body.curves.size() + k));
     const int prim = static_cast<int>(m_primitives.size());
-    p.first_link = static_cast<int>(m_edge_faces.size());
+    p.first_link = static_cast<int>(m_links.edge_faces.size());
     for (const Edge_use& u : edge.uses) {
       if (u.face < 0 || u.face >= static_cast<int>(body.faces.size())) continue;
       const Face& f = body.faces[u.face];
@@ -316,13 +316,13 @@ void Tracking_model::add_brep_edges() {
       const Trim_loop& loop = f.trims[u.loop];
       if (u.curve < 0 || u.curve >= static_cast<int>(loop.curves.size())) continue;
       Edge_on_face e;
-      e.face = m_face_primitive[u.face];
+      e.face = m_links.face_primitive[u.face];
       e.uv = &loop.curves[u.curve].uv;
-      m_edge_faces.push_back(e);
+      m_links.edge_faces.push_back(e);
       face_edge.emplace_back(e.face, prim);
     }
-    p.link_count = static_cast<int>(m_edge_faces.size()) - p.first_link;
-    m_edge_primitive[k] = prim;
+    p.link_count = static_cast<int>(m_links.edge_faces.size()) - p.first_link;
+    m_links.edge_primitive[k] = prim;
     m_primitives.push_back(p);
   }
   // Faces' edge lists (CSR).
@@ -334,10 +334,10 @@ void Tracking_model::link_faces_to_edges(std::vector<std::pair<int, int>>& face_
   face_edge.erase(std::unique(face_edge.begin(), face_edge.end()), face_edge.end());
   for (std::size_t i = 0; i < face_edge.size();) {
     Primitive& f = m_primitives[face_edge[i].first];
-    f.first_link = static_cast<int>(m_face_edges.size());
+    f.first_link = static_cast<int>(m_links.face_edges.size());
     std::size_t j = i;
     for (; j < face_edge.size() && face_edge[j].first == face_edge[i].first; ++j)
-      m_face_edges.push_back(face_edge[j].second);
+      m_links.face_edges.push_back(face_edge[j].second);
     f.link_count = static_cast<int>(j - i);
     i = j;
   }
@@ -347,7 +347,7 @@ void Tracking_model::add_mesh() {
   const Triangle_mesh& mesh = m_body.mesh;
   if (mesh.empty()) return;
   const int nv = static_cast<int>(mesh.vertices.size());
-  m_triangle_primitive.assign(mesh.triangles.size(), -1);
+  m_links.triangle_primitive.assign(mesh.triangles.size(), -1);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     for (int k : tri)
@@ -360,18 +360,18 @@ void Tracking_model::add_mesh() {
     const Point_3& p2 = mesh.vertices[tri[2]];
     const Point_3 p3 = p1 + (p2 - p0);
     // Poles (i along u, j along v): (0,0) p0, (0,1) p2, (1,0) p1, (1,1) p1 + p2 - p0.
-    m_own_surfaces.push_back(std::make_unique<Nurbs_surface_3>(
+    m_own.surfaces.push_back(std::make_unique<Nurbs_surface_3>(
         1, 1, 2, 2, std::vector<Point_3>{p0, p2, p1, p3}, std::vector<double>{0, 0, 1, 1},
         std::vector<double>{0, 0, 1, 1}));
     Primitive p;
     p.kind = Primitive_kind::Triangle;
     p.index = static_cast<int>(t);
-    p.feature = Feature::surface(*m_own_surfaces.back());
+    p.feature = Feature::surface(*m_own.surfaces.back());
     Bbox_3 box = p0.bbox() + p1.bbox() + p2.bbox();
     p.box = box;
     p.global_element = m_hierarchy->element_of(
         Element_kind::Face, static_cast<int>(m_body.faces.size() + t));
-    m_triangle_primitive[t] = static_cast<int>(m_primitives.size());
+    m_links.triangle_primitive[t] = static_cast<int>(m_primitives.size());
     m_primitives.push_back(p);
   }
   // Unique edges, each a segment from its lower to its higher vertex index.
@@ -396,15 +396,15 @@ void Tracking_model::add_mesh() {
     while (j < uses.size() && uses[j].a == uses[i].a && uses[j].b == uses[i].b) ++j;
     const Point_3& pa = mesh.vertices[uses[i].a];
     const Point_3& pb = mesh.vertices[uses[i].b];
-    m_own_curves.push_back(std::make_unique<Nurbs_curve_3>(
+    m_own.curves.push_back(std::make_unique<Nurbs_curve_3>(
         1, std::vector<Point_3>{pa, pb}, std::vector<double>{0, 0, 1, 1}));
     Primitive p;
     p.kind = Primitive_kind::Mesh_edge;
     p.index = static_cast<int>(m_primitives.size());
-    p.feature = Feature::curve(*m_own_curves.back());
+    p.feature = Feature::curve(*m_own.curves.back());
     p.box = pa.bbox() + pb.bbox();
     const int prim = static_cast<int>(m_primitives.size());
-    p.first_link = static_cast<int>(m_edge_faces.size());
+    p.first_link = static_cast<int>(m_links.edge_faces.size());
     for (std::size_t k = i; k < j; ++k) {
       const Use& u = uses[k];
       const auto& tri = mesh.triangles[u.triangle];
@@ -415,15 +415,15 @@ void Tracking_model::add_mesh() {
         if (tri[c] == u.b && cb < 0) cb = c;
       }
       Edge_on_face e;
-      e.face = m_triangle_primitive[u.triangle];
+      e.face = m_links.triangle_primitive[u.triangle];
       e.origin[0] = corner[ca][0];
       e.origin[1] = corner[ca][1];
       e.direction[0] = corner[cb][0] - corner[ca][0];
       e.direction[1] = corner[cb][1] - corner[ca][1];
-      m_edge_faces.push_back(e);
+      m_links.edge_faces.push_back(e);
       face_edge.emplace_back(e.face, prim);
     }
-    p.link_count = static_cast<int>(m_edge_faces.size()) - p.first_link;
+    p.link_count = static_cast<int>(m_links.edge_faces.size()) - p.first_link;
     m_primitives.push_back(p);
     i = j;
   }
@@ -555,19 +555,19 @@ void Tracking_model::build_tree() {
 int Tracking_model::primitive_of(Element_kind kind, int index) const {
   prepare();
   switch (kind) {
-    case Element_kind::Point: return m_point_primitive;
+    case Element_kind::Point: return m_links.point_primitive;
     case Element_kind::Face: {
-      const int nf = static_cast<int>(m_face_primitive.size());
-      if (index >= 0 && index < nf) return m_face_primitive[index];
-      if (index >= nf && index - nf < static_cast<int>(m_triangle_primitive.size()))
-        return m_triangle_primitive[index - nf];
+      const int nf = static_cast<int>(m_links.face_primitive.size());
+      if (index >= 0 && index < nf) return m_links.face_primitive[index];
+      if (index >= nf && index - nf < static_cast<int>(m_links.triangle_primitive.size()))
+        return m_links.triangle_primitive[index - nf];
       return -1;
     }
     case Element_kind::Curve: {
-      const int nc = static_cast<int>(m_curve_primitive.size());
-      if (index >= 0 && index < nc) return m_curve_primitive[index];
-      if (index >= nc && index - nc < static_cast<int>(m_edge_primitive.size()))
-        return m_edge_primitive[index - nc];
+      const int nc = static_cast<int>(m_links.curve_primitive.size());
+      if (index >= 0 && index < nc) return m_links.curve_primitive[index];
+      if (index >= nc && index - nc < static_cast<int>(m_links.edge_primitive.size()))
+        return m_links.edge_primitive[index - nc];
       return -1;
     }
   }
@@ -597,14 +597,14 @@ const int* Tracking_model::edges_of(int f, int& count) const {
   prepare();
   const Primitive& p = m_primitives[f];
   count = p.is_surface() ? p.link_count : 0;
-  return count ? m_face_edges.data() + p.first_link : nullptr;
+  return count ? m_links.face_edges.data() + p.first_link : nullptr;
 }
 
 const Edge_on_face* Tracking_model::faces_of(int e, int& count) const {
   prepare();
   const Primitive& p = m_primitives[e];
   count = p.feature.dimension() == 1 ? p.link_count : 0;
-  return count ? m_edge_faces.data() + p.first_link : nullptr;
+  return count ? m_links.edge_faces.data() + p.first_link : nullptr;
 }
 
 bool Tracking_model::contains(int primitive, const double* q) const {

@@ -143,12 +143,19 @@ class Tracking_model {
   std::unique_ptr<Mesh_bvh> m_mesh;
   mutable std::once_flag m_prepared;
   std::vector<Primitive> m_primitives;
-  std::vector<std::unique_ptr<Nurbs_surface_3>> m_own_surfaces;
-  std::vector<std::unique_ptr<Nurbs_curve_3>> m_own_curves;
-  std::vector<int> m_face_edges;             // links of faces: edge primitives
-  std::vector<Edge_on_face> m_edge_faces;    // links of edges: faces
-  std::vector<int> m_face_primitive, m_curve_primitive, m_edge_primitive, m_triangle_primitive;
-  int m_point_primitive = -1;
+  // Geometry the model made itself, owned here: edges cut to their trim range, and a mesh's
+  // triangles and edges as bilinear patches and segments (primitives point into these).
+  struct Owned {
+    std::vector<std::unique_ptr<Nurbs_surface_3>> surfaces;
+    std::vector<std::unique_ptr<Nurbs_curve_3>> curves;
+  } m_own;
+  // Which primitive each of the body's entities became, and the face-edge adjacency (CSR).
+  struct Links {
+    std::vector<int> face_edges;             // links of faces: edge primitives
+    std::vector<Edge_on_face> edge_faces;    // links of edges: faces
+    std::vector<int> face_primitive, curve_primitive, edge_primitive, triangle_primitive;
+    int point_primitive = -1;
+  } m_links;
   struct Node {
     Bbox_3 box;
     int left = -1, right = -1, primitive = -1;

@@ -6,6 +6,7 @@
 #include "kernel/Body.h"
 #include "kernel/Rigid_pose_3.h"
 
+#include <Geom_BSplineCurve.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <TopoDS_Shape.hxx>
 
@@ -14,6 +15,12 @@ namespace extremal::bench {
 // The same poles, knots and weights as a Geom_BSplineSurface, placed by X (control points
 // mapped: exact for a rigid map).
 Handle(Geom_BSplineSurface) to_occt(const Nurbs_surface_3& s, const Rigid_pose_3& X);
+
+// The same poles, knots and weights as a Geom_BSplineCurve, in its own frame.
+Handle(Geom_BSplineCurve) to_occt(const Nurbs_curve_3& c);
+
+// `s` placed by X (a copy of its geometry; BRepBuilderAPI_Transform).
+TopoDS_Shape moved(const TopoDS_Shape& s, const Rigid_pose_3& X);
 
 // A compound of one untrimmed face per face of `b` (BRepBuilderAPI_MakeFace, tolerance 1e-7),
 // placed by X.

@@ -20,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <sstream>
 
 #include <BRepAdaptor_Surface.hxx>
@@ -66,6 +67,7 @@
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_OutOfMemory.hxx>
 #include <TCollection_AsciiString.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
@@ -277,8 +279,25 @@ struct Session {
   std::string format_word;  // "STEP", "IGES", "BREP"
   Handle(XSControl_WorkSession) ws;
   const Read_options* options = nullptr;
+  const Cad_scan* scan = nullptr;
   double scale = 1.0;  // OCCT lengths (mm) -> scene unit
   Model* model = nullptr;
+
+  // The entity's label in the file: "#20" (STEP: the instance name in the file, not its rank
+  // in OpenCASCADE's model) or "D45" (IGES: its directory entry's line). Empty when unknown.
+  std::string file_label(const Handle(Standard_Transient)& ent) const {
+    if (ent.IsNull() || ws.IsNull() || ws->Model().IsNull()) return {};
+    const Handle(TCollection_HAsciiString) l = ws->Model()->StringLabel(ent);
+    return l.IsNull() ? std::string() : std::string(l->ToCString());
+  }
+
+  // "STEP #20 (StepGeom_BSplineSurfaceWithKnots)", "IGES entity D45 (IGESGeom_BSplineSurface)".
+  std::string entity_text(const Handle(Standard_Transient)& ent) const {
+    std::string label = file_label(ent);
+    if (format_word == "IGES" && !label.empty() && label[0] != 'D') label = "D" + label;
+    return (format_word == "IGES" ? "IGES entity " : format_word + " ") + label + " (" +
+           ent->DynamicType()->Name() + ")";
+  }
 
   std::string entity_name(const TopoDS_Shape& s, const std::string& fallback) const {
     if (ws.IsNull()) return fallback;
@@ -287,15 +306,8 @@ struct Session {
       if (tr.IsNull()) return fallback;
       Handle(Standard_Transient) ent = tr->EntityFromShapeResult(s, 1);
       if (ent.IsNull()) ent = tr->EntityFromShapeResult(s, -1);
-      if (ent.IsNull() || ws->Model().IsNull()) return fallback;
-      const int n = ws->Model()->Number(ent);
-      std::ostringstream os;
-      if (format_word == "IGES")
-        os << "IGES entity D" << (2 * n - 1);
-      else
-        os << format_word << " #" << n;
-      os << " (" << ent->DynamicType()->Name() << ")";
-      return os.str();
+      if (ent.IsNull() || file_label(ent).empty()) return fallback;
+      return entity_text(ent);
     } catch (const Standard_Failure&) {
       return fallback;
     }
@@ -867,35 +879,71 @@ std::string unit_from_iges(IGESControl_Reader& r) {
   return s;
 }
 
+// Entities OpenCASCADE failed to transfer, with the scan's reason where it has one (the scan
+// reads the entity as the file writes it; OpenCASCADE's messages are often generic, e.g.
+// "Surface has not been created"). Problems the scan found in entities that OpenCASCADE
+// transferred all the same become warnings.
 void report_transfer_failures(Session& ss) {
-  if (ss.ws.IsNull()) return;
-  try {
-    Handle(XSControl_TransferReader) tr = ss.ws->TransferReader();
-    if (tr.IsNull() || tr->TransientProcess().IsNull()) return;
-    Interface_CheckIterator checks = tr->TransientProcess()->CheckList(Standard_False);
-    Handle(Interface_InterfaceModel) model = ss.ws->Model();
-    int reported = 0;
-    for (checks.Start(); checks.More(); checks.Next()) {
-      const Handle(Interface_Check)& ch = checks.Value();
-      if (ch.IsNull() || !ch->HasFailed()) continue;
-      std::ostringstream ent;
-      const int n = checks.Number();
-      if (ss.format_word == "IGES")
-        ent << "IGES entity D" << (2 * n - 1);
-      else
-        ent << ss.format_word << " #" << n;
-      if (!ch->Entity().IsNull()) ent << " (" << ch->Entity()->DynamicType()->Name() << ")";
-      std::string reason;
-      for (int i = 1; i <= ch->NbFails(); ++i)
-        reason += (i > 1 ? "; " : "") + std::string(ch->CFail(i));
-      if (++reported > 200) {
-        ss.model->warnings.push_back("more transfer failures not listed");
-        break;
+  std::map<std::string, std::string> unused = ss.scan ? ss.scan->entity_problems
+                                                      : std::map<std::string, std::string>();
+  if (!ss.ws.IsNull()) {
+    try {
+      Handle(XSControl_TransferReader) tr = ss.ws->TransferReader();
+      if (!tr.IsNull() && !tr->TransientProcess().IsNull()) {
+        Interface_CheckIterator checks = tr->TransientProcess()->CheckList(Standard_False);
+        int reported = 0;
+        for (checks.Start(); checks.More(); checks.Next()) {
+          const Handle(Interface_Check)& ch = checks.Value();
+          if (ch.IsNull() || !ch->HasFailed()) continue;
+          std::string ent;
+          std::string label;
+          if (!ch->Entity().IsNull()) {
+            label = ss.file_label(ch->Entity());
+            ent = ss.entity_text(ch->Entity());
+          } else {
+            ent = ss.format_word + " entity " + std::to_string(checks.Number());
+          }
+          std::string reason;
+          for (int i = 1; i <= ch->NbFails(); ++i) {
+            std::string fail = ch->CFail(i);
+            fail.erase(0, fail.find_first_not_of(' '));
+            reason += (i > 1 ? "; " : "") + fail;
+          }
+          const auto known = unused.find(label);
+          if (known != unused.end()) {
+            reason = known->second + (reason.empty() ? "" : " (OpenCASCADE: " + reason + ")");
+            unused.erase(known);
+          }
+          if (++reported > 200) {
+            ss.model->warnings.push_back("more transfer failures not listed");
+            break;
+          }
+          ss.skip(ent, reason, "not transferred by OpenCASCADE");
+        }
       }
-      ss.skip(ent.str(), reason, "not transferred by OpenCASCADE");
+    } catch (const Standard_Failure&) {
     }
-  } catch (const Standard_Failure&) {
   }
+  for (const auto& [label, problem] : unused)
+    ss.model->warnings.push_back(ss.format_word + (ss.format_word == "IGES" ? " entity " : " ") +
+                                 label + ": " + problem + " (OpenCASCADE read it all the same)");
+}
+
+// " (STEP #20: reason; ...)": the scan's problems with single entities, the first three, for a
+// file OpenCASCADE transfers nothing of (it often says nothing about why). Empty when none.
+std::string scan_reasons(const Session& ss) {
+  if (!ss.scan || ss.scan->entity_problems.empty()) return {};
+  std::string out = " (";
+  std::size_t shown = 0;
+  for (const auto& [label, problem] : ss.scan->entity_problems) {
+    if (shown == 3) {
+      out += "; and " + std::to_string(ss.scan->entity_problems.size() - 3) + " more";
+      break;
+    }
+    out += (shown++ ? "; " : "") + ss.format_word +
+           (ss.format_word == "IGES" ? " entity " : " ") + label + ": " + problem;
+  }
+  return out + ")";
 }
 
 std::string stem(const std::string& path) {
@@ -907,12 +955,13 @@ std::string stem(const std::string& path) {
 }  // namespace
 
 void read_occt(const std::string& path, Model_format format, const Read_options& options,
-               Model& model) {
+               const Cad_scan& scan, Model& model) {
   std::lock_guard<std::mutex> lock(occt_mutex());
   quiet_occt();
   Session ss;
   ss.path = path;
   ss.options = &options;
+  ss.scan = &scan;
   ss.model = &model;
   try {
     // OpenCASCADE converts lengths to millimetres; we scale millimetres to the scene unit.
@@ -958,7 +1007,7 @@ void read_occt(const std::string& path, Model_format format, const Read_options&
       const IFSelect_ReturnStatus st = reader.ReadFile(path.c_str());
       if (st != IFSelect_RetDone)
         throw Invalid_input(path + ": not a readable STEP file (OpenCASCADE reader status " +
-                            std::to_string(static_cast<int>(st)) + ")");
+                            std::to_string(static_cast<int>(st)) + ")" + scan_reasons(ss));
       ss.ws = reader.Reader().WS();
       const std::string unit = unit_from_step(reader.ChangeReader());
       model.file_unit = unit.empty() ? "mm (no unit declared)" : unit;
@@ -978,7 +1027,8 @@ void read_occt(const std::string& path, Model_format format, const Read_options&
         model.format_name = schema.empty() ? "STEP" : "STEP " + schema;
       }
       if (!reader.Transfer(doc))
-        throw Invalid_input(path + ": STEP file has no shape OpenCASCADE can transfer");
+        throw Invalid_input(path + ": STEP file has no shape OpenCASCADE can transfer" +
+                            scan_reasons(ss));
     } else {
       ss.format_word = "IGES";
       IGESCAFControl_Reader reader;
@@ -988,13 +1038,14 @@ void read_occt(const std::string& path, Model_format format, const Read_options&
       const IFSelect_ReturnStatus st = reader.ReadFile(path.c_str());
       if (st != IFSelect_RetDone)
         throw Invalid_input(path + ": not a readable IGES file (OpenCASCADE reader status " +
-                            std::to_string(static_cast<int>(st)) + ")");
+                            std::to_string(static_cast<int>(st)) + ")" + scan_reasons(ss));
       ss.ws = reader.WS();
       const std::string unit = unit_from_iges(reader);
       model.file_unit = unit.empty() ? "mm (no unit declared)" : unit;
       model.format_name = "IGES";
       if (!reader.Transfer(doc))
-        throw Invalid_input(path + ": IGES file has no entity OpenCASCADE can transfer");
+        throw Invalid_input(path + ": IGES file has no entity OpenCASCADE can transfer" +
+                            scan_reasons(ss));
     }
     ss.scale = scene_scale("mm", options);
     model.scale_to_unit = ss.scale;
@@ -1008,6 +1059,8 @@ void read_occt(const std::string& path, Model_format format, const Read_options&
       std::string n = label_name(roots.Value(i));
       visit_label(st, roots.Value(i), TopLoc_Location(), n.empty() ? fallback : n, ss, 0);
     }
+  } catch (const Standard_OutOfMemory&) {
+    throw std::bad_alloc();
   } catch (const Standard_Failure& e) {
     throw Invalid_input(path + ": OpenCASCADE failed while reading (" + failure_text(e) + ")");
   }

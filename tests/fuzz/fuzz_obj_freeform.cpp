@@ -7,6 +7,7 @@
 
 #include "io/Model_reader.h"
 #include "kernel/Error.h"
+#include "Use_model.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
@@ -14,16 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.format = extremal::io::Model_format::Obj_freeform;
   try {
     const extremal::io::Model m = extremal::io::read_model_from_memory("fuzz.obj", text, options);
-    for (const auto& body : m.bodies) {
-      (void)body.trimmed_bbox();
-      for (const auto& f : body.faces) {
-        const auto& s = f.surface;
-        for (int i = 0; i <= 4; ++i)
-          for (int j = 0; j <= 4; ++j)
-            (void)f.contains(s.u_min() + (s.u_max() - s.u_min()) * i / 4.0,
-                             s.v_min() + (s.v_max() - s.v_min()) * j / 4.0);
-      }
-    }
+    extremal::fuzz::use_model(m);
   } catch (const extremal::Invalid_input&) {
   }
   return 0;

@@ -35,10 +35,10 @@ class Depth_monitor {
 
   // Forgets the last check and the side entered by (the tracker starts again).
   void reset() {
-    m_checked = HUGE_VAL;
+    m_checked.value = HUGE_VAL;
     m_sheet_side = Vec3::Zero();
-    m_meet_pa = -1;
-    m_meets_at_valid = false;
+    m_meet.pa = -1;
+    m_meet.at_valid = false;
   }
   // After each step's answer: a solid against an open body keeps the side it is on while they
   // are apart or in contact (the answer's normal, in A's frame), the side it enters by.
@@ -96,17 +96,22 @@ class Depth_monitor {
   Pair_seeding& m_seeding;
   Solved m_solved;
   long m_seeds = 0;
-  double m_checked = HUGE_VAL;  // the tracked minimum at the last check
-  Rigid_pose_3 m_checked_at;    // and X_AB there
+  // The tracked minimum at the last check, and X_AB there.
+  struct {
+    double value = HUGE_VAL;
+    Rigid_pose_3 at;
+  } m_checked;
   // A solid against an open body: the normal of the last report that read them apart or in
   // contact, in A's frame (zero: none since the start).
   Vec3 m_sheet_side = Vec3::Zero();
-  // The last common point of the surfaces found (primitives and parameters; m_meet_pa < 0:
-  // none), and the relative pose open_pair_overlaps last decided at.
-  int m_meet_pa = -1, m_meet_pb = -1;
-  Vec4 m_meet_params = Vec4::Zero();
-  Rigid_pose_3 m_meets_at;
-  bool m_meets_at_valid = false, m_meets = false;
+  // The last common point of the surfaces found (primitives and parameters; pa < 0: none), and
+  // the relative pose open_pair_overlaps last decided at (at_valid) and what it decided (meets).
+  struct {
+    int pa = -1, pb = -1;
+    Vec4 params = Vec4::Zero();
+    Rigid_pose_3 at;
+    bool at_valid = false, meets = false;
+  } m_meet;
 };
 
 }  // namespace extremal::internal
