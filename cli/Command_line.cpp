@@ -118,6 +118,12 @@ Command_line parse_command_line(int argc, const char* const* argv, std::ostream&
   CLI::Option* relative_tolerance_opt = report_cmd->add_option("--relative-tolerance", relative_tolerance,
                          "Error budget, relative to the distance (default 1e-9, or the scene's)")
       ->check(budget_check(true));
+  double memory_limit_mib = 0.0;
+  CLI::Option* memory_limit_opt = report_cmd->add_option("--memory-limit", memory_limit_mib,
+                         "Most memory one pair's candidate stage may hold, in MiB (default 1024, "
+                         "or the scene's \"tracker.memory_limit_mib\"); past it the pair is "
+                         "certified by the global solver and its rows say memory_limit")
+      ->check(CLI::PositiveNumber);
   double clearance = 0.0;
   CLI::Option* clearance_opt = report_cmd->add_option("--clearance", clearance,
                          "Clearance D (scene units): pairs closer than D, not in contact, are of "
@@ -192,6 +198,7 @@ Command_line parse_command_line(int argc, const char* const* argv, std::ostream&
     if (tolerance_opt->count()) cl.report.tolerance = tolerance;
     if (relative_tolerance_opt->count()) cl.report.relative_tolerance = relative_tolerance;
     if (clearance_opt->count()) cl.report.clearance = clearance;
+    if (memory_limit_opt->count()) cl.report.memory_limit_mib = memory_limit_mib;
   } else if (tessellate_cmd->parsed()) {
     cl.command = Command_line::Command::Tessellate;
   } else {

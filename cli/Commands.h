@@ -39,6 +39,8 @@ struct Report_options {
   std::optional<double> tolerance, relative_tolerance;
   // --clearance D: every scene's clearance (its "clearance" key), the `clearance` class's bound.
   std::optional<double> clearance;
+  // --memory-limit MIB: every scene's memory limit per pair (its "tracker.memory_limit_mib").
+  std::optional<double> memory_limit_mib;
   // --fail-on LEVEL: "clash", "contact" or "clearance"; empty: no check. Exit 3 when a pair's
   // class, or the most severe class it leaves open, reaches LEVEL (docs/cli.md).
   std::string fail_on;

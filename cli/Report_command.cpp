@@ -1,5 +1,6 @@
 // `extremal report SCENE.json... [-o OUT.csv|OUT.json|OUT.html] [--plot OUT.svg] [--snapshot
-// OUT.glb --at T] [--clearance D] [--fail-on LEVEL] [--threads N] [--every N] [--quiet]`: batch
+// OUT.glb --at T] [--clearance D] [--fail-on LEVEL] [--threads N] [--every N] [--memory-limit
+// MIB] [--quiet]`: batch
 // distance reports over time (docs/cli.md).
 #include <unistd.h>
 
@@ -174,6 +175,7 @@ int run_report(const Report_options& options) {
       if (options.tolerance) scenes.back().tolerance.absolute = *options.tolerance;
       if (options.relative_tolerance) scenes.back().tolerance.relative = *options.relative_tolerance;
       if (options.clearance) scenes.back().clearance = *options.clearance;
+      if (options.memory_limit_mib) scenes.back().tracker.memory_limit_mib = *options.memory_limit_mib;
       if (fail_level == io::Clearance_class::Clearance && !scenes.back().clearance)
         throw Invalid_input(path + ": --fail-on clearance: no clearance to check against (give "
                             "--clearance D, or the scene's \"clearance\")");

@@ -473,7 +473,11 @@ Scene parse_scene(const std::string& text, const std::string& path, const File_l
   if (root.contains("tracker")) {
     const json& t = root["tracker"];
     if (!t.is_object()) err.fail("tracker", "expected an object");
-    check_keys(t, "tracker", {"gain", "substeps", "audit_every", "own_basin_gap", "integrator"}, err);
+    check_keys(t, "tracker",
+               {"gain", "substeps", "audit_every", "own_basin_gap", "integrator", "memory_limit_mib"},
+               err);
+    if (t.contains("memory_limit_mib"))
+      scene.tracker.memory_limit_mib = positive(t["memory_limit_mib"], "tracker.memory_limit_mib", err);
     if (t.contains("gain")) scene.tracker.gain = positive(t["gain"], "tracker.gain", err);
     if (t.contains("substeps"))
       scene.tracker.substeps = integer(t["substeps"], "tracker.substeps", 1, err);

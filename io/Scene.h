@@ -33,6 +33,9 @@ struct Tracker_settings {
   // A tracked pair's second basin is taken once closer by this fraction of the distance
   // (Body_pair_options::own_basin_gap); 0 = not watched.
   double own_basin_gap = 1e-3;
+  // The most memory one pair's candidate stage may hold, in MiB
+  // (Body_pair_options::memory_limit); 0: the options' default.
+  double memory_limit_mib = 0.0;
 };
 
 // What an apart row may miss the true distance by (Body_pair_options::tolerance): its

@@ -87,6 +87,7 @@ struct Audit_stats {
   long broad_phases = 0;
   long located = 0;  // checks of pairs with one basin settled by Newton's method
   int max_trackers = 0, max_candidates = 0;
+  int memory_limited = 0;  // rows certified past the pair's memory limit (Pair_report)
   std::vector<int> faces_a, faces_b;  // distinct reported faces
 };
 
@@ -116,6 +117,7 @@ Audit_stats run_audited(const char* name, const Body& a, const Body& b,
     s.track_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
     ++s.steps;
     EXPECT_TRUE(std::isfinite(r.distance)) << name << " t = " << t;
+    if (r.memory_limited) ++s.memory_limited;
     s.max_trackers = std::max(s.max_trackers, tracker.statistics().trackers);
     s.max_candidates = std::max(s.max_candidates, tracker.statistics().candidates);
     if (std::find(s.faces_a.begin(), s.faces_a.end(), r.feature_a) == s.faces_a.end())
@@ -353,6 +355,48 @@ TEST(BodyScenes, StepPartAgainstAMovingSphere) {
   EXPECT_EQ(s.below_lower_bound, 0);
   EXPECT_GT(s.transitions, 0);
   EXPECT_GE(s.faces_a.size(), 2u);
+}
+
+TEST(BodyScenes, APairOverItsMemoryLimitIsCertifiedByTheGlobalSolver) {
+  // screw.step against a sphere circling it (StepPartAgainstAMovingSphere) with a memory limit
+  // of 1 KiB per pair: no step's candidates fit, so every row is the global solver's, said so
+  // (memory_limited), and still within 1e-9 of the certified reference with its lower bound
+  // below it.
+  const io::Model m = io::read_model(shared_data("step/screw.step"));
+  ASSERT_EQ(m.bodies.size(), 1u);
+  const Body& part = m.bodies[0];
+  const Bbox_3 box = part.trimmed_bbox();
+  const Vec3 c(0.5 * (box.xmin() + box.xmax()), 0.5 * (box.ymin() + box.ymax()),
+               0.5 * (box.zmin() + box.zmax()));
+  const Vec3 ext(box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin());
+  const double radius = 0.15 * ext.minCoeff();
+  const Body ball = make_sphere_body(radius);
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (ext[k] > ext[axis]) axis = k;
+  const Vec3 e = Vec3::Unit(axis), e1 = Vec3::Unit((axis + 1) % 3), e2 = Vec3::Unit((axis + 2) % 3);
+  const double R = 0.5 * std::max(ext[(axis + 1) % 3], ext[(axis + 2) % 3]) + 1.6 * radius;
+  const double omega = 2.0 * k_pi / 2.0;
+  auto ball_motion = [&](double t) {
+    const double s = -0.45 + 0.9 * t / 2.0;
+    const Vec3 p = c + s * ext[axis] * e + R * (std::cos(omega * t) * e1 + std::sin(omega * t) * e2);
+    const Vec3 v = 0.45 * ext[axis] * e + R * omega * (-std::sin(omega * t) * e1 + std::cos(omega * t) * e2);
+    return Pose_and_twist{pose_of(p), twist(v, Vec3::Zero())};
+  };
+  Body_pair_options capped;
+  capped.memory_limit = 1024;
+  const Audit_stats s =
+      run_audited("screw.step / sphere, 1 KiB", part, ball, at_rest, ball_motion, 2.0, 0.02, 1, capped);
+  EXPECT_EQ(s.memory_limited, s.steps);
+  EXPECT_LE(s.worst_relative, 1e-9);
+  EXPECT_EQ(s.below_lower_bound, 0);
+  EXPECT_GT(s.min_audit, 0.0);  // apart all along: the rows' bounds were checked
+  EXPECT_GE(s.faces_a.size(), 2u);  // the nearest face changes on the way
+  // The default limit holds this pair's candidates: no row says otherwise.
+  const Audit_stats free =
+      run_audited("screw.step / sphere", part, ball, at_rest, ball_motion, 2.0, 0.02, 1);
+  EXPECT_EQ(free.memory_limited, 0);
+  EXPECT_LE(free.worst_relative, 1e-9);
 }
 
 TEST(BodyScenes, FlatAgainstConvexPairsNeedNoWatch) {

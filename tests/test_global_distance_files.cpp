@@ -603,5 +603,37 @@ TEST(DistanceFiles, ExtremaOnAFoldInsideAFaceAreKept) {
   EXPECT_LE(a + c, -s.lower_bound + 1e-6);
 }
 
+
+TEST(DistanceFiles, ASheetFarLargerThanAPartFindsAWitnessWithinItsBudget) {
+  // (Hunt seed 1001, scene 3.) OCC22459-TEST2.stp's second sheet, one face about 3,000 mm
+  // across, 1,556 mm from bug29478.stp's 12-face part. The solver split the larger node first,
+  // so the sheet's one net was split against the part's root over and over: with no two nets it
+  // had no witness, pruned nothing and spent its 50,000 nodes; the row read `inf`.
+  const io::Model sheets = io::read_model(k_data + "/step/OCC22459-TEST2.stp");
+  const io::Model part = io::read_model(k_data + "/step/bug29478.stp");
+  ASSERT_GE(sheets.bodies.size(), 2u);
+  ASSERT_GE(part.bodies.size(), 1u);
+  const Body& a = sheets.bodies[1];
+  const Body& b = part.bodies[0];
+  const Rigid_pose_3 X_WA =
+      Rigid_pose_3::from_quaternion(Vec3(-1549.9133710941103, 819.470638870304, 427.2420383098992),
+                                    0.7705672036270947, 0.28880444229393687, 0.4102542683943273,
+                                    -0.3930771095724641) * a.placement;
+  const Rigid_pose_3 X_WB =
+      Rigid_pose_3::from_quaternion(Vec3(-1619.5954236657603, -541.1662925638599, -1366.6851005755068),
+                                    0.9793570558845961, 0.02266839888753782, 0.05349481637700171,
+                                    0.19360838153789345) * b.placement;
+  Distance_request request;  // the tracker's global budget
+  request.max_nodes = 50000;
+  request.absolute_tolerance = request.relative_tolerance = 1e-9;
+  const Distance_result r = extremal_distance(a, X_WA, b, X_WB, request);
+  EXPECT_EQ(r.status, Distance_status::Converged) << to_string(r.status);
+  ASSERT_TRUE(std::isfinite(r.distance));
+  EXPECT_NEAR(r.distance, 1555.8749, 1e-3);
+  EXPECT_LE(r.lower_bound, r.distance);
+  EXPECT_GE(r.lower_bound, r.distance * (1.0 - 1e-9) - 1e-9);
+  EXPECT_LT(r.nodes_created, 50000);
+}
+
 }  // namespace
 }  // namespace extremal

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace extremal {
 
@@ -48,6 +49,15 @@ struct Body_pair_options {
   // it; 0: not watched (the rows of two bodies not both convex then carry no certified bound
   // beyond the tracked pair's own: see Pair_report::lower_bound).
   double own_basin_gap = 1e-3;
+  // The most memory, in bytes, one pair's candidate stage may hold: its candidate primitive
+  // pairs (with their queues and the broad phase's scratch), their kept proofs and the trackers
+  // on them. A step whose candidates would not fit keeps none: the pair is certified by the
+  // global solver at that step instead (its memory bounded by `global.max_nodes`, as each
+  // restricted solve's by its request's), and its row says so (Pair_report::memory_limited).
+  // Kept proofs that would not fit are not kept (their pairs are solved again when due). The
+  // default is far above what the bench scenes' and probe sets' pairs use (bench/RESULTS.md,
+  // "Memory per pair"); 0: no limit.
+  std::size_t memory_limit = std::size_t{1} << 30;
   // The certified solver's request on one candidate primitive pair (seeding a new pair, and
   // checking a pair whose tracker moved on for a closer basin): a start for the tracker, whose
   // corrections converge it, so a looser tolerance and a small node budget bound the cost of

@@ -120,6 +120,7 @@ void Kept_proof_stage::mark_tracked() {
 }
 
 bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) {
+  if (m_over) return false;
   mark_tracked();
   m_queues.dirty = m_queues.all_due = true;  // (every candidate is checked at the next step apart)
   bool seeded = false;
@@ -136,6 +137,11 @@ bool Kept_proof_stage::seed_in_contact(const Rigid_pose_3& X_WA, const Rigid_pos
                                             m_context.model_b->primitives()[pb].box, C.seeded_at,
                                             m_context.now.relative);
       if (C.seeded_lower - moved.closer > m_context.options.contact_tolerance) continue;
+    }
+    // (Trackers past the memory limit: the candidates go, the global solver certifies.)
+    if (!fits(m_live.bytes_to_add())) {
+      go_over_limit();
+      return seeded;
     }
     C.contact_seeded = true;
     const double lower = m_seeding.seed_pair(pa, pb, X_WA, X_WB);
@@ -214,6 +220,7 @@ void Kept_proof_stage::requeue_all(bool all_due) {
 
 Apart_certificate Kept_proof_stage::certify_apart(const Rigid_pose_3& X_WA,
                                                   const Rigid_pose_3& X_WB, double best) {
+  if (m_over) return {};
   mark_tracked();
   bool meet = false;
   // What the rows may miss (the error budget), and the restricted solves' tolerance: the
@@ -828,6 +835,24 @@ void Kept_proof_stage::release_solves(Candidate& C) {
 void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool partial) {
   const std::vector<Gradient_proof>& proofs = m_solver.workspace().gradient_proofs();
   const std::vector<Bound_proof>& bounds = m_solver.workspace().bound_proofs();
+  // Proofs past the memory limit are not kept (the candidate keeps its bound and reach, and is
+  // solved again when they run out): what the pools' growth would take, at its most.
+  auto growth = [](const auto& pool, std::size_t incoming) -> std::size_t {
+    const std::size_t need = pool.size() + incoming;
+    if (need <= pool.capacity()) return 0;
+    return (std::max(need, 2 * pool.capacity()) - pool.capacity()) * sizeof(pool[0]);
+  };
+  const std::size_t more =
+      growth(m_kept.proofs, proofs.size() + static_cast<std::size_t>(C.proof_count)) +
+      growth(m_kept.bounds, bounds.size() + static_cast<std::size_t>(C.bound_count)) +
+      (C.solve_block < 0 && m_kept.free_solve_blocks.empty() ? growth(m_kept.solve_poses, k_kept_solves) : 0);
+  if (!fits(more)) {
+    m_kept.proof_total -= C.proof_count;
+    m_kept.bound_total -= C.bound_count;
+    C.proof_count = C.bound_count = 0;
+    release_solves(C);
+    return;
+  }
   // C's earlier proofs, kept (partial) or dropped: their range is read after the compaction
   // below, which keeps the order within each range.
   if (!partial) {
@@ -912,6 +937,7 @@ void Kept_proof_stage::keep_proofs(Candidate& C, const Solve_pose& at, bool part
   C.bound_count = static_cast<int>(m_kept.bounds.size()) - C.bound_begin;
   m_kept.proof_total += C.proof_count - counted_proofs;
   m_kept.bound_total += C.bound_count - counted_bounds;
+  note_bytes();
 }
 
 }  // namespace extremal::internal

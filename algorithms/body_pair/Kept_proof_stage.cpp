@@ -22,6 +22,73 @@ struct Kept_proof_stage::Broad_scratch {
   std::vector<std::pair<std::uint64_t, double>> found;  // (key, box distance), sorted by key
 };
 
+namespace {
+
+// Thrown by the broad phase's box callback once the pairs found pass what the memory limit
+// leaves room for (CGAL's box intersection has no other way out).
+struct Over_limit {};
+
+template <class T>
+std::size_t capacity_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
+}  // namespace
+
+std::size_t Kept_proof_stage::bytes() const {
+  return capacity_bytes(m_candidates) + capacity_bytes(m_next_candidates) +
+         capacity_bytes(m_kept.proofs) + capacity_bytes(m_kept.bounds) + capacity_bytes(m_kept.solve_poses) +
+         capacity_bytes(m_kept.free_solve_blocks) + capacity_bytes(m_kept.order) +
+         capacity_bytes(m_scratch.restarts) + capacity_bytes(m_scratch.keep_proof) +
+         capacity_bytes(m_scratch.keep_bound) + capacity_bytes(m_scratch.prims_a) + capacity_bytes(m_scratch.prims_b) +
+         capacity_bytes(m_scratch.world_a) + capacity_bytes(m_scratch.world_b) +
+         capacity_bytes(m_boxes->boxes_a) + capacity_bytes(m_boxes->boxes_b) +
+         capacity_bytes(m_boxes->found) + capacity_bytes(m_queues.bound) +
+         capacity_bytes(m_queues.reach) + capacity_bytes(m_scratch.queue_kept) + m_live.bytes();
+}
+
+bool Kept_proof_stage::fits(std::size_t more) const {
+  const std::size_t limit = m_context.options.memory_limit;
+  return limit == 0 || bytes() + more <= limit;
+}
+
+void Kept_proof_stage::note_bytes() { m_stats.memory_bytes = std::max(m_stats.memory_bytes, bytes()); }
+
+void Kept_proof_stage::go_over_limit() {
+  m_over = true;
+  release(m_candidates);
+  release(m_next_candidates);
+  release(m_kept.proofs);
+  release(m_kept.bounds);
+  release(m_kept.solve_poses);
+  release(m_kept.free_solve_blocks);
+  release(m_kept.order);
+  release(m_scratch.restarts);
+  release(m_scratch.keep_proof);
+  release(m_scratch.keep_bound);
+  release(m_queues.bound);
+  release(m_queues.reach);
+  release(m_scratch.queue_kept);
+  release(m_boxes->found);
+  m_kept.proof_total = m_kept.bound_total = 0;
+  m_queues.dirty = m_queues.all_due = true;
+  m_broad.reach = -HUGE_VAL;
+  // (The global solver certifies the pair while over: Stage_engine::certify_by_global.)
+  int keep = -1;
+  for (std::size_t k = 0; k < m_live.slots().size(); ++k) {
+    const Live& L = m_live[static_cast<int>(k)];
+    if (L.alive && L.valid && (keep < 0 || L.result.distance < m_live[keep].result.distance))
+      keep = static_cast<int>(k);
+  }
+  for (std::size_t k = 0; k < m_live.slots().size(); ++k)
+    if (m_live[static_cast<int>(k)].alive && static_cast<int>(k) != keep) m_live.kill(static_cast<int>(k));
+}
+
 int Kept_proof_stage::find_candidate(std::uint64_t key) const {
   const auto it = std::lower_bound(m_candidates.begin(), m_candidates.end(), key,
                                    [](const Candidate& c, std::uint64_t k) { return c.key < k; });
@@ -64,13 +131,31 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   // solves' poses), and sorting them moved 4% of a step's time in a contact of many pairs.
   auto& found = m_boxes->found;
   found.clear();
-  CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(),
-                           [&](const Box& x, const Box& y) {
-                             const int i = x.info(), j = y.info();
-                             const double d = box_distance(m_scratch.world_a[i], m_scratch.world_b[j]);
-                             if (d > reach) return;
-                             found.emplace_back(pair_key(m_scratch.prims_a[i], m_scratch.prims_b[j]), d);
-                           });
+  // The most pairs the memory limit leaves room for, beside the proofs and trackers the stage
+  // holds (the candidates' vectors are counted per pair, at their most).
+  std::size_t most = std::numeric_limits<std::size_t>::max();
+  if (const std::size_t limit = m_context.options.memory_limit) {
+    const std::size_t held = bytes() - capacity_bytes(m_candidates) -
+                             capacity_bytes(m_next_candidates) - capacity_bytes(found) -
+                             capacity_bytes(m_queues.bound) - capacity_bytes(m_queues.reach) -
+                             capacity_bytes(m_scratch.queue_kept);
+    most = held >= limit ? 0 : (limit - held) / k_candidate_bytes;
+  }
+  try {
+    CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(),
+                             [&](const Box& x, const Box& y) {
+                               const int i = x.info(), j = y.info();
+                               const double d = box_distance(m_scratch.world_a[i], m_scratch.world_b[j]);
+                               if (d > reach) return;
+                               if (found.size() >= most) throw Over_limit();
+                               found.emplace_back(pair_key(m_scratch.prims_a[i], m_scratch.prims_b[j]), d);
+                             });
+  } catch (const Over_limit&) {
+    ++m_stats.broad_phases;
+    go_over_limit();
+    return;
+  }
+  m_over = false;
   std::sort(found.begin(), found.end());  // (keys are distinct)
   m_next_candidates.clear();
   for (const auto& [key, d] : found) {
@@ -101,7 +186,7 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
       if (!certifiable(pa, pb)) {
         bool tracked = false;
         m_live.each_live(key, [&](int) { tracked = true; });
-        if (!tracked) m_seeding.seed_pair(pa, pb, X_WA, X_WB);
+        if (!tracked && fits(m_live.bytes_to_add())) m_seeding.seed_pair(pa, pb, X_WA, X_WB);
       }
     } else {
       // The carried bound (with its pose, reach and carried sides) when it is the higher one;
@@ -142,6 +227,9 @@ void Kept_proof_stage::broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3&
   m_broad.reach = reach;
   m_queues.dirty = true;
   ++m_stats.broad_phases;
+  note_bytes();
+  // (The trackers seeded on pairs that cannot be certified count too.)
+  if (!fits(0)) go_over_limit();
 }
 
 Kept_proof_stage::Kept_proof_stage(Pair_context& context, Pair_solver& solver, Live_set& live,
@@ -152,6 +240,7 @@ Kept_proof_stage::Kept_proof_stage(Pair_context& context, Pair_solver& solver, L
 Kept_proof_stage::~Kept_proof_stage() = default;
 
 void Kept_proof_stage::clear() {
+  m_over = false;
   m_candidates.clear();
   m_queues.dirty = m_queues.all_due = true;
   m_kept.proofs.clear();
@@ -172,6 +261,11 @@ void Kept_proof_stage::update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
   const Pair_context& c = m_context;
   const double margin = c.reach_margin();
   const double reach = std::abs(best) + margin;
+  // (Over the memory limit, every step tries again: the set may fit now.)
+  if (m_over) {
+    broad_phase(X_WA, X_WB, reach + k_broad_extra * margin);
+    return;
+  }
   if (near_pose(c.now.relative, m_broad.relative, c.length())) return;
   const double moved =
       approach_bound(c.model_a->box(), c.model_b->box(), m_broad.relative, c.now.relative).closer;
@@ -180,7 +274,7 @@ void Kept_proof_stage::update(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB
 
 void Kept_proof_stage::track(int pa, int pb, const Rigid_pose_3& relative) {
   const std::uint64_t key = pair_key(pa, pb);
-  if (find_candidate(key) >= 0) return;
+  if (m_over || find_candidate(key) >= 0) return;
   Candidate c;
   c.key = key;
   c.lower = -std::numeric_limits<double>::infinity();  // no bound yet

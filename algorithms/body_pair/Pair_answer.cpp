@@ -24,6 +24,7 @@ Pair_report report_of(const Pair_answer& a, double t, double contact_tolerance,
   r.degeneracy = a.degeneracy;
   r.solved = a.source == Reading_source::Solved;
   r.rejected_by = r.solved ? a.rejected_by : Reading_rule::None;
+  r.memory_limited = a.memory_limited;
   const double tol = contact_tolerance;
   r.status = a.distance < -tol                          ? Pair_status::Penetrating
              : a.distance <= tol                        ? Pair_status::Contact
@@ -79,6 +80,8 @@ void add_counters(Pair_statistics& to, const Pair_statistics& from) {
   to.front_box_bounds += from.front_box_bounds;
   to.front_triangle_pairs += from.front_triangle_pairs;
   to.front_traversals += from.front_traversals;
+  to.memory_limited_steps += from.memory_limited_steps;
+  to.memory_bytes = std::max(to.memory_bytes, from.memory_bytes);
 }
 
 }  // namespace extremal::internal

@@ -2,6 +2,7 @@
 // and, apart from it, the statistics of the work done so far.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 
 #include "algorithms/pair/Extremal_tracker.h"
@@ -62,6 +63,10 @@ struct Pair_report {
   // least distance - Error_budget::at(distance) unless the status is Uncertified. None where
   // the bodies touch or overlap (a depth is local: no bound on it is certified).
   std::optional<double> lower_bound;
+  // The pair's candidates would not fit its memory limit (Body_pair_options::memory_limit) at
+  // this step: the row was certified by the global solver alone (apart rows `uncertified`
+  // where that solve fell short of the budget).
+  bool memory_limited = false;
 };
 
 // Work done by a body-pair tracker since its start (Body_pair_tracker::statistics).
@@ -114,6 +119,10 @@ struct Pair_statistics {
   // pairs measured exactly, and traversals from the roots (the first step, growth, and steps
   // whose carried front cost more than a traversal). `candidates` is the front's size.
   long front_opened = 0, front_box_bounds = 0, front_triangle_pairs = 0, front_traversals = 0;
+  // The most bytes the candidate stage held at once (Body_pair_options::memory_limit counts
+  // them), and the steps whose candidates would not fit it.
+  std::size_t memory_bytes = 0;
+  long memory_limited_steps = 0;
 };
 
 }  // namespace extremal

@@ -63,6 +63,7 @@ void Stage_engine::add_statistics(Pair_statistics& s) const {
   s.audits += m_solver.solves();
   s.reseeds += static_cast<int>(m_reseeds);
   s.trackers = m_live.count();
+  s.memory_limited_steps += m_memory_limited;
   s.candidates = m_candidates->size();
 }
 
@@ -106,6 +107,10 @@ void Stage_engine::update_candidates() {
 void Stage_engine::certify_apart() {
   // Apart or not is decided here, once, for this step's candidate stages.
   m_notes.apart = m_notes.candidates && m_tracked.best > m_context.options.contact_tolerance;
+  if (m_candidates->over_limit()) {
+    certify_by_global();
+    return;
+  }
   if (m_notes.apart)
     m_notes.certificate = m_candidates->certify_apart(*m_context.now.X_WA, *m_context.now.X_WB, m_tracked.best);
 }
@@ -120,6 +125,20 @@ void Stage_engine::check_nested() {
   m_notes.certificate = {};
   solve_lost();
   m_notes.meets = true;
+}
+
+void Stage_engine::certify_by_global() {
+  // (Without a tracked minimum solve_if_lost solves.) Test
+  // BodyScenes.APairOverItsMemoryLimitIsCertifiedByTheGlobalSolver.
+  if (!m_notes.candidates) return;
+  const Rigid_pose_3& X_WA = *m_context.now.X_WA;
+  const Rigid_pose_3& X_WB = *m_context.now.X_WB;
+  const Distance_result g = m_solver.global(X_WA, X_WB);
+  if (m_seeding.seed_from(g, X_WA, X_WB, m_tracked.best)) ++m_reseeds;
+  if (!m_notes.apart) return;
+  m_notes.certificate.meet =
+      g.status == Distance_status::Intersecting || g.status == Distance_status::Touching;
+  m_notes.certificate.lower = g.lower_bound;
 }
 
 void Stage_engine::solve_where_met() {
@@ -307,6 +326,8 @@ void Stage_engine::make_answer() {
   if (s.step == m_context.now.steps) lower = std::max(lower, s.lower_bound);
   r.lower_bound.reset();
   if (lower > -HUGE_VAL) r.lower_bound = lower;
+  r.memory_limited = m_candidates->over_limit();
+  if (r.memory_limited) ++m_memory_limited;
 }
 
 void Stage_engine::unsigned_answer() {

@@ -214,7 +214,15 @@ Distance_result Distance_solver::run() {
       keep_bound(m_side[0].pools->nodes[top.a], m_side[1].pools->nodes[top.b], top.lower);
       continue;
     }
-    const int which = (sa && (!sb || a.size >= b.size)) ? 0 : 1;
+    // The larger node is split; but until the query has a witness, a net against a group of
+    // the other tree splits the group, since only two nets give one (corner_candidates), and
+    // nothing is pruned without it. Test
+    // DistanceFiles.ASheetFarLargerThanAPartFindsAWitnessWithinItsBudget.
+    int which = (sa && (!sb || a.size >= b.size)) ? 0 : 1;
+    if (m_best.ea < 0 && a.is_net() != b.is_net()) {
+      const int group = a.is_net() ? 1 : 0;
+      if (group == 0 ? sa : sb) which = group;
+    }
     int c[2];
     m_side[which].children(which == 0 ? top.a : top.b, c[0], c[1]);
     for (int k = 0; k < 2; ++k) {

@@ -11,11 +11,15 @@ namespace extremal::report {
 namespace {
 
 // The detail column: why the tracker fell back, or that the certified solver answered (with the
-// reading rule that rejected the closest tracker's reading, if one did).
+// reading rule that rejected the closest tracker's reading, if one did); then, past the pair's
+// memory limit, `memory_limit`.
 std::string detail(const Pair_report& r) {
-  if (!r.solved) return to_string(r.degeneracy);
-  if (r.rejected_by == Reading_rule::None) return "solved";
-  return std::string("solved: ") + to_string(r.rejected_by);
+  std::string d = !r.solved ? to_string(r.degeneracy)
+                  : r.rejected_by == Reading_rule::None
+                      ? "solved"
+                      : std::string("solved: ") + to_string(r.rejected_by);
+  if (r.memory_limited) d += d.empty() ? "memory_limit" : "; memory_limit";
+  return d;
 }
 
 nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }

@@ -10,6 +10,8 @@ Body_pair_options pair_options_of(const io::Scene& scene) {
   o.threshold = scene.threshold.value_or(0.0);
   o.audit_every = scene.tracker.audit_every;
   o.own_basin_gap = scene.tracker.own_basin_gap;
+  if (scene.tracker.memory_limit_mib > 0.0)
+    o.memory_limit = static_cast<std::size_t>(scene.tracker.memory_limit_mib * 1024.0 * 1024.0);
   o.tolerance = {scene.tolerance.absolute, scene.tolerance.relative};
   return o;
 }

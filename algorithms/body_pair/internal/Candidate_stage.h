@@ -41,6 +41,10 @@ class Candidate_stage {
   virtual void track(int pa, int pb, const Rigid_pose_3& relative) = 0;
   // Live candidate pairs.
   virtual int size() const = 0;
+  // The candidates of the last broad phase would not fit Body_pair_options::memory_limit: it
+  // kept none, certify_apart certifies nothing and seed_in_contact seeds nothing until one
+  // fits again (each update tries).
+  virtual bool over_limit() const = 0;
   // Its work so far (the broad phases, checks, solves and seeds of Pair_statistics).
   virtual const Pair_statistics& statistics() const = 0;
 };

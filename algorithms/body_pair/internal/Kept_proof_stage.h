@@ -34,6 +34,10 @@ class Kept_proof_stage final : public Candidate_stage {
   void track(int pa, int pb, const Rigid_pose_3& relative) override;
   int size() const override { return static_cast<int>(m_candidates.size()); }
   const Pair_statistics& statistics() const override { return m_stats; }
+  bool over_limit() const override { return m_over; }
+  // The bytes it holds, as Body_pair_options::memory_limit counts them: the capacities of its
+  // vectors and of the live set's slots.
+  std::size_t bytes() const;
 
  private:
   // The poses of a restricted solve whose proofs a candidate keeps: A placed at `a`, and
@@ -60,12 +64,13 @@ class Kept_proof_stage final : public Candidate_stage {
     Rigid_pose_3 reach_at;  // X_AB the reach counts from (`at`, or where the proofs last held)
     std::array<unsigned, 2> carried{{0u, 0u}};
     // The proofs behind the carried bound: the pairs its restricted solves set aside
-    // (m_proofs[proof_begin, + proof_count)) and those they bounded (m_bounds[bound_begin, +
+    // (m_kept.proofs[proof_begin, + proof_count)) and those they bounded
+    // (m_kept.bounds[bound_begin, +
     // bound_count)), each in the world frame of the solve that made it (solves[its index]).
     // When the carried bound or the reach runs out, certify_apart checks them again at the
     // current pose instead of solving again, and solves again only the pairs that fail.
     int proof_begin = 0, proof_count = 0, bound_begin = 0, bound_count = 0;
-    // Its kept solves' poses: m_solve_poses[solve_block, + solve_count) (a block of
+    // Its kept solves' poses: m_kept.solve_poses[solve_block, + solve_count) (a block of
     // k_kept_solves made on its first kept solve; -1: none). Kept apart from the candidate,
     // which the broad phase sorts, copies and mostly drops untouched.
     int solve_block = -1;
@@ -148,6 +153,19 @@ class Kept_proof_stage final : public Candidate_stage {
   };
 
   void broad_phase(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, double reach);
+  // The most bytes one candidate pair may take: its entries in m_candidates and
+  // m_next_candidates, in the broad phase's list (twice, for its growth) and in the three
+  // queues (queue_capacity()).
+  static constexpr std::size_t k_candidate_bytes =
+      2 * sizeof(Candidate) + 2 * sizeof(std::pair<std::uint64_t, double>) +
+      3 * k_queue_slack * sizeof(Queue_entry);
+  // Whether `more` bytes on top of bytes() stay within the memory limit (or there is none).
+  bool fits(std::size_t more) const;
+  // The candidates of this step do not fit the memory limit: every candidate and kept proof
+  // goes, their memory given back, and the trackers but the closest one that holds.
+  void go_over_limit();
+  // Records bytes() in the statistics' peak.
+  void note_bytes();
   // Index of `key` in m_candidates, or -1.
   int find_candidate(std::uint64_t key) const;
   // Whether certify_apart can certify primitive pair (pa, pb) without a tracker: both have
@@ -155,9 +173,9 @@ class Kept_proof_stage final : public Candidate_stage {
   bool certifiable(int pa, int pb) const;
   // C's bound becomes `lower` at the current pose, with no kept proofs, reach or carried sides.
   void forget_proofs(Candidate& C, double lower);
-  // Queues candidate C, just checked, with `lower` its bound at this step: in m_bound_queue at
+  // Queues candidate C, just checked, with `lower` its bound at this step: in m_queues.bound at
   // lower + m_moved (due once the motion since may have brought it below `need`), and while its
-  // set-aside proofs hold, in m_reach_queue at m_moved plus their remaining reach.
+  // set-aside proofs hold, in m_queues.reach at m_moved plus their remaining reach.
   void queue(Candidate& C, double lower);
   // The most entries either queue holds: queue() drops the stale ones before it passes this.
   std::size_t queue_capacity() const { return k_queue_slack * m_candidates.size() + 64; }
@@ -193,15 +211,16 @@ class Kept_proof_stage final : public Candidate_stage {
   void grow_region(Candidate& C, const Primitive& A, const Primitive& B);
   // Where C's kept proofs no longer clear `cutoff` at the current pose (a bound re-bounded
   // below it, a set-aside pair whose gradient proof fails or lasts less than `min_reach`):
-  // their sub-patch pairs into m_restarts, the others marked kept (m_keep_bound, m_keep_proof)
+  // their sub-patch pairs into m_scratch.restarts, the others marked kept
+  // (m_scratch.keep_bound, m_scratch.keep_proof)
   // with the lowest bound (`lower`) and reaches (`reach`) they give. False when C is better
   // solved anew: no proofs, as many kept solves as it may hold, or more failing pairs than
   // twice the solve's node budget `max_nodes` (their sub-patches would exhaust it).
   bool plan_partial_solve(const Candidate& C, int element_a, int element_b, double cutoff,
                           double min_reach, int max_nodes, double& lower,
                           std::array<double, 2>& reach);
-  // Appends the workspace's proofs of the solve just made at pose `at` to m_proofs and
-  // m_bounds as C's, after those of C's earlier proofs a partial solve kept (`partial`;
+  // Appends the workspace's proofs of the solve just made at pose `at` to m_kept.proofs and
+  // m_kept.bounds as C's, after those of C's earlier proofs a partial solve kept (`partial`;
   // otherwise they are dropped), and drops the ranges of candidates no longer listed when too
   // many are stale.
   void keep_proofs(Candidate& C, const Solve_pose& at, bool partial);
@@ -218,6 +237,7 @@ class Kept_proof_stage final : public Candidate_stage {
   Live_set& m_live;
   Pair_seeding& m_seeding;
   Pair_statistics m_stats;  // its checks, solves and seeds
+  bool m_over = false;      // see over_limit()
   std::vector<Candidate> m_candidates, m_next_candidates;
   // The candidates' kept proofs: the pairs their restricted solves set aside and bounded, and
   // the poses of those solves.

@@ -93,6 +93,17 @@ class Live_set {
   double best() const;
   bool any_valid() const;
   int count() const;
+  // Bytes its slots hold (capacities, as Body_pair_options::memory_limit counts them), and
+  // those one more add() may take on top (the slots' growth when no slot is free).
+  std::size_t bytes() const {
+    return m_live.capacity() * sizeof(Live) + m_free.capacity() * sizeof(int) +
+           m_keys.capacity() * sizeof(m_keys[0]);
+  }
+  std::size_t bytes_to_add() const {
+    return m_free.empty() && m_live.size() == m_live.capacity()
+               ? std::max<std::size_t>(m_live.capacity(), 1) * sizeof(Live)
+               : 0;
+  }
 
   // Whether slot L's normalised projection errors are within `limit` along every parameter
   // not held on a domain bound (is_converged_along_free).

@@ -36,6 +36,8 @@ struct Pair_answer {
   // The certified lower bound on the bodies' true distance made at this step (none: nothing
   // certified). Only read apart.
   std::optional<double> lower_bound;
+  // The candidates would not fit the memory limit at this step (Pair_report::memory_limited).
+  bool memory_limited = false;
 };
 
 // The report row of an answer at time t: its status from the distance (penetrating below

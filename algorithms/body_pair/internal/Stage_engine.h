@@ -54,6 +54,9 @@ class Stage_engine final : public Pair_engine {
   void certify_apart();
   // Apart by the trackers while a closed body holds the other: solved as lost, no certificate.
   void check_nested();
+  // Over the memory limit (Candidate_stage::over_limit): the global solver's bound is the
+  // step's certificate, and its witness seeds a tracker where closer than the tracked one.
+  void certify_by_global();
   void solve_where_met();
   // After a solve that found the surfaces meeting: a tracker reading apart is no answer.
   void check_held();
@@ -105,6 +108,7 @@ class Stage_engine final : public Pair_engine {
     double audit_us = 0.0;  // time spent in audits
   } m_notes;
   long m_reseeds = 0;  // trackers the global solves re-seeded
+  long m_memory_limited = 0;  // steps over the memory limit
 };
 
 }  // namespace extremal::internal
