@@ -214,14 +214,16 @@ Distance_result Distance_solver::run() {
       keep_bound(m_side[0].pools->nodes[top.a], m_side[1].pools->nodes[top.b], top.lower);
       continue;
     }
-    // The larger node is split; but until the query has a witness, a net against a group of
-    // the other tree splits the group, since only two nets give one (corner_candidates), and
-    // nothing is pruned without it. Test
+    // The larger node is split; but while nothing can be pruned (no witness and no cutoff), a
+    // net k_witness_split_ratio times larger than the group of the other tree splits the group,
+    // since only two nets give a witness (corner_candidates). Test
     // DistanceFiles.ASheetFarLargerThanAPartFindsAWitnessWithinItsBudget.
     int which = (sa && (!sb || a.size >= b.size)) ? 0 : 1;
-    if (m_best.ea < 0 && a.is_net() != b.is_net()) {
+    if (!(prune_level() < HUGE_VAL) && a.is_net() != b.is_net()) {
       const int group = a.is_net() ? 1 : 0;
-      if (group == 0 ? sa : sb) which = group;
+      const double net_size = group == 1 ? a.size : b.size;
+      const double group_size = group == 1 ? b.size : a.size;
+      if ((group == 0 ? sa : sb) && net_size > k_witness_split_ratio * group_size) which = group;
     }
     int c[2];
     m_side[which].children(which == 0 ? top.a : top.b, c[0], c[1]);
