@@ -204,6 +204,41 @@ TEST(ProbeScenes, ASolidThroughASheetAndOutPastItsBorderIsApart) {
   }
 }
 
+TEST(ProbeScenes, ASheetInsideASolidStandingStillReadsPenetrating) {
+  // (Hunt seed 2014, scene 5.) bug28414's one torus face, an open sheet, wholly inside pr2ct.stp
+  // (closed), 80.41 from its surface. The start found A inside B and the hulls' depth, but a
+  // tracker on the sheet's edge and B's face 5 read 157.70 apart, `uncertified`, at every step.
+  const io::Model sheet_file = io::read_model(shared_data("step/bug28414_bug_toroidal_surface.stp"));
+  const io::Model solid_file = io::read_model(shared_data("step/pr2ct.stp"));
+  const Body& a = sheet_file.bodies.at(0);
+  const Body& b = solid_file.bodies.at(0);
+  const Rigid_pose_3 X_A0 =
+      Rigid_pose_3::from_quaternion(Vec3(-39.351766852098955, 5.406855846876347, 108.96225963823504),
+                                    0.036794117227691645, -0.10407422698116323, 0.9923691352126386,
+                                    -0.05493858109769465) * a.placement;
+  const Rigid_pose_3 X_WB =
+      Rigid_pose_3::from_quaternion(Vec3(-67.81034415902802, 2.5264398140784596, -175.27419482044664),
+                                    0.248805470310454, -0.4454209893475563, -0.2911309888268482,
+                                    -0.8092828476725176) * b.placement;
+  // Standing still, then moved 1 mm a step along x (still inside).
+  Body_pair_tracker tracker(a, b);
+  Twist_3 v;
+  v.linear = Vec3(10.0, 0.0, 0.0);
+  for (int k = 0; k <= 3; ++k) {
+    const double t = 0.1 * k;
+    const Rigid_pose_3 X_WA = Rigid_pose_3(Mat3::Identity(), Vec3(1.0 * k, 0.0, 0.0)) * X_A0;
+    const Pair_report& r = tracker.step(t, X_WA, v, X_WB, Twist_3{}, 0.1);
+    const Signed_distance_result ref = signed_distance(a, X_WA, b, X_WB);
+    ASSERT_TRUE(ref.is_certified()) << "t = " << t;
+    ASSERT_EQ(ref.overlap, Overlap_kind::A_inside_B) << "t = " << t;
+    EXPECT_EQ(r.status, Pair_status::Penetrating) << "t = " << t << ": " << r.distance;
+    EXPECT_LT(r.distance, 0.0) << "t = " << t;
+    if (r.lower_bound) {
+      EXPECT_LE(*r.lower_bound, r.distance) << "t = " << t;
+    }
+  }
+}
+
 TEST(ProbeScenes, TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep) {
   // (Hunt seed 1002, scene 4.) Faces 2 and 4 of BUC50025.igs cross by a few 1e-4; each step is
   // solved. At t = 1.2 the step's solve spent its 50,000 nodes with its bound at 0 and its

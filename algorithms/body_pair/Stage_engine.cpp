@@ -204,9 +204,14 @@ void Stage_engine::solve_lost() {
   const Distance_result g = m_solver.global(X_WA, X_WB);
   if (m_seeding.seed_from(g, X_WA, X_WB, std::numeric_limits<double>::infinity())) ++m_reseeds;
   if (m_depth.seed_overlap(g, X_WA, X_WB, true)) ++m_reseeds;
-  // The surfaces cross by this step's solve: a tracker seeded at the common point that reads
-  // apart (not converged: a point of each surface, near each other) is no answer.
-  if (g.status == Distance_status::Intersecting) m_notes.meets = true;
+  // The bodies overlap by this step's solve (the surfaces cross, or it kept a depth: one holds
+  // the other): a tracker that reads them apart is no answer (a tracker seeded at the common
+  // point, not converged; a nested sheet's pair; test
+  // ProbeScenes.ASheetInsideASolidStandingStillReadsPenetrating).
+  const Solved& s = m_depth.solved();
+  if (g.status == Distance_status::Intersecting ||
+      (s.step == m_context.now.steps && s.distance < -m_context.options.contact_tolerance))
+    m_notes.meets = true;
 }
 
 void Stage_engine::merge_duplicates() { m_live.merge_duplicates(); }
