@@ -273,6 +273,50 @@ TEST(ProbeScenes, TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep) {
   EXPECT_EQ(meeting, 6);
 }
 
+TEST(ProbeScenes, ASheetFarFromATorusPassingByReadsAFiniteDistanceAtEveryStep) {
+  // (Hunt seed 3021, scene 5.) The second sheet of OCC22459-TEST2.stp flies past the toroidal
+  // part of bug28414 some 1,500 mm away. At t = 2.57 the step's solve spent its nodes without
+  // a witness: the row read no distance at all (NaN in the report, `uncertified`).
+  const io::Model torus = io::read_model(shared_data("step/bug28414_bug_toroidal_surface.stp"));
+  const io::Model sheets = io::read_model(shared_data("step/OCC22459-TEST2.stp"));
+  ASSERT_EQ(torus.bodies.size(), 1u);
+  ASSERT_EQ(sheets.bodies.size(), 3u);
+  const Body& a = torus.bodies[0];
+  const Body& b = sheets.bodies[1];
+  std::vector<Keyframe> frames;
+  for (const auto& r : std::vector<std::array<double, 8>>{
+      {1.5, 30.066662189795213, -95.31966671110283, -81.04718487008597, 0.8674134833230069, -0.45417923712316194, -0.1628527648260309, -0.12163077942769099},
+      {1.8703097269307214, 11.946346254317747, -101.03799571859629, -82.05060272460139, 0.8731744308823001, -0.4431496815032084, -0.08063385021281841, -0.18623360394094596},
+      {2.0325906879236477, 30.88634677582695, -88.06919840659162, -89.88990245532054, 0.9122390246260472, -0.38670875026865204, -0.09989479884754421, -0.0910897007250754},
+      {3.5, -1.2367085413752505, -43.74727900485429, -100.03370711340804, 0.943207474032876, -0.0980005327588157, 0.11626043159484208, -0.29536260520399504}})
+    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
+                                                          r[6], r[7])});
+  const Motion motion_a = Motion::keyframes(frames);
+  Twist_3 twist_b;
+  twist_b.linear = Vec3(-69.41705780394075, 1515.6266687881564, 1886.6916630305461);
+  twist_b.angular = Vec3(0.19859888309516727, 0.15088571467474668, -0.017087560985787443);
+  const Motion motion_b = Motion::twist(
+      Rigid_pose_3::from_quaternion(Vec3(-1300.6781551398342, -1416.8809805233034, -1092.4438789666685),
+                                    0.1540265559319571, -0.979101181704233, -0.12580299795282493,
+                                    -0.04254764105324071),
+      twist_b, 1.5);
+  Body_pair_options options;
+  options.tracker.substeps = 2;
+  Body_pair_tracker tracker(a, b, options);
+  const double dt = 2.0 / 30.0;
+  for (int k = 0; k <= 30; ++k) {
+    const double t = 1.5 + k * dt;
+    const Rigid_pose_3 X_WA = motion_a.pose_at(t) * a.placement;
+    const Rigid_pose_3 X_WB = motion_b.pose_at(t) * b.placement;
+    const Pair_report& r =
+        tracker.step(t, X_WA, motion_a.twist_at(t), X_WB, motion_b.twist_at(t), dt);
+    ASSERT_TRUE(std::isfinite(r.distance)) << "t = " << t << ": " << to_string(r.status);
+    ASSERT_TRUE(r.lower_bound.has_value()) << "t = " << t;
+    EXPECT_LE(*r.lower_bound, r.distance) << "t = " << t;
+    EXPECT_NEAR((r.point_b - r.point_a).norm(), r.distance, 1e-9 * r.distance) << "t = " << t;
+  }
+}
+
 TEST(ProbeScenes, APartCarriedIntoAnotherBetweenStepsReadsItsDepthNotTheGap) {
   // (Hunt seed 1006, scene 5.) Between t = 2.7 and 3.1 linkrods goes inside the cornetta
   // (closed); its held pair reads the surfaces' gap, +22.77 with a bound of 5.07, where the

@@ -96,8 +96,10 @@ struct Body_pair_options {
   }();
   // A global solve that spends its node budget with its bound at or below contact_tolerance and
   // its witness above it has neither parted the surfaces nor found where they meet (a shallow
-  // crossing): it is solved again with this many nodes, the one-shot distance's default.
-  // Shown by ProbeScenes.TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep.
+  // crossing), and one that spends it without finding a witness at all: each is solved again
+  // with this many nodes, the one-shot distance's default. Shown by
+  // ProbeScenes.TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep and
+  // ProbeScenes.ASheetFarFromATorusPassingByReadsAFiniteDistanceAtEveryStep.
   int undecided_max_nodes = Distance_request{}.max_nodes;
 };
 

@@ -538,7 +538,13 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
     m_checked.value = HUGE_VAL;
     return true;
   }
-  if (against_sheet) return false;
+  // A sheet keeps the depth of the side the solid entered by while their surfaces meet; a
+  // sheet wholly inside, or a curve (no sides), reads the hulls' depth like a solid (tests
+  // Overlap.ACurveInASolidReadsTheDepthReachedThroughContact,
+  // Overlap.AnOpenMeshInASolidReadsTheDepthReachedThroughContact).
+  if (against_sheet && !c.kind.curve_against_closed() && overlap.kind == Overlap_kind::Surfaces_meet)
+    return false;
+  if (overlap.kind != Overlap_kind::Surfaces_meet) m_sheet_side = Vec3::Zero();  // (inside: no side)
   // Still overlapping: where the hulls' depth is the bodies' (one inside the other, both
   // convex, or one of its witnesses inside the other body: the hulls' depth bounds the
   // translation distance), trackers deeper than it go and its pair is tracked (seed_overlap).
@@ -551,7 +557,7 @@ bool Depth_monitor::check(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, do
 
 void Depth_monitor::note_answer(const Pair_answer& r, const Rigid_pose_3& X_WA) {
   const Pair_context& c = m_context;
-  if (c.kind.closed_against_open() && r.distance >= -c.options.contact_tolerance &&
+  if (c.kind.closed_against_sheet() && r.distance >= -c.options.contact_tolerance &&
       r.normal.norm() > 0.5)
     m_sheet_side = X_WA.rotation().transpose() * r.normal;
 }

@@ -1,6 +1,7 @@
 #include "algorithms/body_pair/internal/Pair_solver.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace extremal::internal {
 
@@ -13,7 +14,12 @@ Distance_result Pair_solver::global(const Rigid_pose_3& X_WA, const Rigid_pose_3
   Distance_result g = extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB,
                                        request, m_workspace);
   const double tol = c.options.contact_tolerance;
-  if (g.status == Distance_status::Budget_exhausted && g.lower_bound <= tol && g.distance > tol &&
+  // Undecided (the bound at contact, the witness apart) or without a witness at all: solved
+  // again at the one-shot budget (tests
+  // ProbeScenes.TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep,
+  // ProbeScenes.ASheetFarFromATorusPassingByReadsAFiniteDistanceAtEveryStep).
+  const bool undecided = g.lower_bound <= tol && g.distance > tol;
+  if (g.status == Distance_status::Budget_exhausted && (undecided || !std::isfinite(g.distance)) &&
       request.max_nodes < c.options.undecided_max_nodes) {
     request.max_nodes = c.options.undecided_max_nodes;
     g = extremal_distance(c.model_a->hierarchy(), X_WA, c.model_b->hierarchy(), X_WB, request,

@@ -9,7 +9,10 @@
 //     (hull_signed_distance, the minimum translation distance when both are convex, its
 //     support points a vertex-face or edge-edge pair), the same definition as `extremal
 //     distance --signed`;
-//   - an open (or inconsistently oriented) mesh is a sheet: its distance has no sign.
+//   - a closed mesh and an open one (a sheet): the depth of the side the closed one entered
+//     by while the surfaces meet, the hulls' depth while the open one lies inside;
+//   - two open (or inconsistently oriented) meshes, or an open one and a point: the distance
+//     has no sign.
 #pragma once
 
 #include <memory>
@@ -31,7 +34,10 @@ class Mesh_pair_stage final : public Pair_engine {
                   const Body_pair_options& options);
 
   // (The first step makes the front from the roots.)
-  void start(const Rigid_pose_3&, const Rigid_pose_3&) override { m_started = false; }
+  void start(const Rigid_pose_3&, const Rigid_pose_3&) override {
+    m_started = false;
+    m_entry_side = Vec3::Zero();
+  }
   const Pair_answer& step(const Pair_step& step) override;
   double box_bound(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB) const override {
     return boxes_apart(m_a, X_WA, m_b, X_WB);
@@ -43,10 +49,12 @@ class Mesh_pair_stage final : public Pair_engine {
   const Mesh_front_statistics& front_statistics() const { return m_front.statistics(); }
 
  private:
-  // Whether the bodies overlap though their surfaces are apart: one closed body wholly inside
-  // the other (or the point inside the closed mesh).
+  // Whether the bodies overlap though their surfaces are apart: one body wholly inside the
+  // other, closed, one (or the point inside the closed mesh).
   bool nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) const;
-  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB);
+  // The answer becomes the hulls' depth (along the side entered by, `entry_side` in A's frame,
+  // where that is known and the hulls' is the other side's), unless the hulls barely meet.
+  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, const Vec3* entry_side);
 
   std::shared_ptr<const Tracking_model> m_models[2];
   const Tracking_model& m_a;
@@ -59,6 +67,9 @@ class Mesh_pair_stage final : public Pair_engine {
   Mesh_front m_front;
   bool m_started = false;
   Rigid_pose_3 m_last;  // X_MO of the last step
+  // A closed mesh against an open one: the normal of the last step that read them apart, in
+  // A's frame (zero: none since the start).
+  Vec3 m_entry_side = Vec3::Zero();
   Pair_answer m_answer;
 };
 

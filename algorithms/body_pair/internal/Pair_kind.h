@@ -30,12 +30,14 @@ struct Pair_kind {
   bool solid_or_point(int s) const { return closed(s) || point(s); }
   bool both_closed() const { return closed(0) && closed(1); }
   bool any_point() const { return point(0) || point(1); }
-  // One side closed and the other an open body (a sheet, a curve, an open mesh).
-  bool closed_against_open() const { return closed(0) != closed(1) && !any_point(); }
   // Has two sides a solid can enter it by: open B-rep faces or an open mesh.
   bool sheet(int s) const { return side(s) == Body_kind::Open_sheet || side(s) == Body_kind::Open_mesh; }
   // One side closed and the other a sheet: the solid keeps the side it entered by.
   bool closed_against_sheet() const { return (closed(0) && sheet(1)) || (closed(1) && sheet(0)); }
+  // One side closed and the other a curve: no side to enter by, a depth like a solid's.
+  bool curve_against_closed() const {
+    return (closed(0) && side(1) == Body_kind::Curve) || (closed(1) && side(0) == Body_kind::Curve);
+  }
   // An inside to read a depth in: a closed body on either side, or two B-rep sheets (which
   // cross). Without one (a curve, a point or an open mesh against a body that is not closed)
   // a pair reads its distance unsigned: 0 where they meet (docs/behaviour.md, "Overlap").
