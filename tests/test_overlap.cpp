@@ -121,9 +121,11 @@ Sweep_counts run(const char* name, const Sweep& s) {
                                     << to_string(ref.overlap) << " " << to_string(ref.status));
     ++c.steps;
     if (std::getenv("OVERLAP_TRACE"))  // (every step printed, to diagnose a sweep)
-      std::printf("  %s %d z=%.4f row %.6g %s lb %s src %d | ref %.6g %s\n", name, i, at.z(), r.distance,
-                  to_string(r.status), r.lower_bound ? std::to_string(*r.lower_bound).c_str() : "-",
-                  static_cast<int>(r.solved), ref.distance, to_string(ref.overlap));
+      std::printf("  %s %d z=%.4f row %.6g %s lb %s src %d features %d/%d edges %d/%d | ref %.6g %s\n",
+                  name, i, at.z(), r.distance, to_string(r.status),
+                  r.lower_bound ? std::to_string(*r.lower_bound).c_str() : "-",
+                  static_cast<int>(r.solved), r.feature_a, r.feature_b, r.edge_a, r.edge_b,
+                  ref.distance, to_string(ref.overlap));
     EXPECT_TRUE(std::isfinite(r.distance) && r.point_a.allFinite() && r.point_b.allFinite() &&
                 r.normal.allFinite());
     if (!std::isfinite(r.distance)) continue;
