@@ -27,6 +27,16 @@ const Body& box() {
   return m.bodies.at(0);
 }
 
+// A motion through rows {t, x, y, z, qw, qx, qy, qz}, as a scene's keyframes (or, `type`
+// Table, its pose table) give them.
+Motion keyframes_of(const std::vector<std::array<double, 8>>& rows,
+                    Motion::Type type = Motion::Type::Keyframes) {
+  std::vector<Keyframe> frames;
+  for (const auto& r : rows)
+    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5], r[6], r[7])});
+  return Motion::keyframes(frames, type);
+}
+
 struct Probe_run {
   int apart_rows = 0, overlapping_rows = 0;
   int read_apart_while_overlapping = 0;
@@ -108,11 +118,7 @@ TEST(ProbeScenes, ABoxLeavingPastASheetsBorderIsApart) {
        0.19654431345094625, -0.8216258119684225, -0.33778038713942243},
       {1.52, 14.722640576039566, 250.4032419597138, -194.6536684840307, 0.41761668807149366,
        0.19645265276970186, -0.8219032057449647, -0.3338828798397643}};
-  std::vector<Keyframe> frames;
-  for (const auto& r : rows)
-    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
-                                                          r[6], r[7])});
-  const Motion motion = Motion::keyframes(frames, Motion::Type::Table);
+  const Motion motion = keyframes_of(rows, Motion::Type::Table);
   const Probe_run run = run_probe(plane, X_WA, box(), motion, 1.16, 1.52, 0.04);
   EXPECT_EQ(run.read_apart_while_overlapping, 0);
   EXPECT_GE(run.apart_rows, 5);
@@ -247,16 +253,12 @@ TEST(ProbeScenes, TwoFacesOfAPartThatCrossReadPenetratingAtEveryStep) {
   ASSERT_GE(part.bodies.size(), 4u);
   const Body& a = part.bodies[1];
   const Body& b = part.bodies[3];
-  std::vector<Keyframe> frames;
-  for (const auto& r : std::vector<std::array<double, 8>>{
+  const Motion motion = keyframes_of({
       {0.0, 32.05141900334135, 53.1663480512009, 35.3972742604882, 0.9124653935674379, 0.13219437662009537, 0.3222337673232726, -0.21470200634483128},
       {0.001276499672955289, 41.55132614264923, 47.698400664704614, 39.96298241249419, 0.9125212029465471, 0.19364022960074798, 0.14497159244258986, -0.3298359486742098},
       {0.7301134325836227, -2.8134366794885457, 14.224155447631379, -23.26471149157482, 0.9101591619272534, -0.37171700939501295, -0.09592238672417353, 0.15567806721386845},
       {1.8632025700629733, -10.032850481551735, -76.3593639428014, -45.134562892306306, -0.0400877228216176, -0.5545314754445916, -0.08430696809398347, 0.8269100025704259},
-      {2.0, -14.234223895660788, -80.78608035829973, -52.946116195112424, 0.07383615673080354, -0.7678794780072051, -0.1342640610482025, 0.6219987870771545}})
-    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
-                                                          r[6], r[7])});
-  const Motion motion = Motion::keyframes(frames);
+      {2.0, -14.234223895660788, -80.78608035829973, -52.946116195112424, 0.07383615673080354, -0.7678794780072051, -0.1342640610482025, 0.6219987870771545}});
   Body_pair_tracker tracker(a, b);
   int meeting = 0;
   for (int k = 0; k <= 5; ++k) {
@@ -283,15 +285,11 @@ TEST(ProbeScenes, ASheetFarFromATorusPassingByReadsAFiniteDistanceAtEveryStep) {
   ASSERT_EQ(sheets.bodies.size(), 3u);
   const Body& a = torus.bodies[0];
   const Body& b = sheets.bodies[1];
-  std::vector<Keyframe> frames;
-  for (const auto& r : std::vector<std::array<double, 8>>{
+  const Motion motion_a = keyframes_of({
       {1.5, 30.066662189795213, -95.31966671110283, -81.04718487008597, 0.8674134833230069, -0.45417923712316194, -0.1628527648260309, -0.12163077942769099},
       {1.8703097269307214, 11.946346254317747, -101.03799571859629, -82.05060272460139, 0.8731744308823001, -0.4431496815032084, -0.08063385021281841, -0.18623360394094596},
       {2.0325906879236477, 30.88634677582695, -88.06919840659162, -89.88990245532054, 0.9122390246260472, -0.38670875026865204, -0.09989479884754421, -0.0910897007250754},
-      {3.5, -1.2367085413752505, -43.74727900485429, -100.03370711340804, 0.943207474032876, -0.0980005327588157, 0.11626043159484208, -0.29536260520399504}})
-    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
-                                                          r[6], r[7])});
-  const Motion motion_a = Motion::keyframes(frames);
+      {3.5, -1.2367085413752505, -43.74727900485429, -100.03370711340804, 0.943207474032876, -0.0980005327588157, 0.11626043159484208, -0.29536260520399504}});
   Twist_3 twist_b;
   twist_b.linear = Vec3(-69.41705780394075, 1515.6266687881564, 1886.6916630305461);
   twist_b.angular = Vec3(0.19859888309516727, 0.15088571467474668, -0.017087560985787443);
@@ -327,18 +325,11 @@ TEST(ProbeScenes, APartCarriedIntoAnotherBetweenStepsReadsItsDepthNotTheGap) {
   ASSERT_EQ(linkrods.bodies.size(), 1u);
   const Body& a = linkrods.bodies[0];
   const Body& b = cornetta.bodies[0];
-  const auto motion = [](const std::vector<std::array<double, 8>>& rows) {
-    std::vector<Keyframe> frames;
-    for (const auto& r : rows)
-      frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
-                                                            r[6], r[7])});
-    return Motion::keyframes(frames);
-  };
-  const Motion motion_a = motion({
+  const Motion motion_a = keyframes_of({
       {1.5, -17.712554372429906, 14.296785428083375, 27.025269781991053, 0.8512609614163847, 0.18832015795606505, -0.0743552299347248, -0.4841090718600607},
       {2.498827144159443, 6.463417728321, -6.06157439288565, 27.18941832459065, 0.8709352141379346, -0.2432410906092347, 0.28717826316340195, -0.3159656148700225},
       {3.5, 36.18286365636259, -21.634146879535294, 24.159011549662893, 0.4767561489953678, -0.6514533994895686, 0.5734576329775443, -0.13949331836465542}});
-  const Motion motion_b = motion({
+  const Motion motion_b = keyframes_of({
       {1.5, 192.25000873482222, -137.59403709064594, -387.81336704969493, 0.47145578554641254, -0.8701089720697915, -0.13579753886373686, -0.04689186962595547},
       {2.66794549003882, 46.78228427028837, -25.00157906357851, -56.29218876958992, 0.8451569580404041, -0.07886700553789866, -0.3913630035848069, 0.3554218776868608},
       {3.467750449217122, -53.91510836667962, 52.09290347177168, 171.54535644037728, 0.5718601670540935, 0.318657935820473, -0.3220468378047936, 0.6838997759434},
@@ -390,11 +381,7 @@ TEST(ProbeScenes, ASheetThroughAPlaneAndOutReadsItsDistanceNotADepth) {
       {1.5, 283.33317215948375, -1909.3354905924516, -1731.1744999974194, 0.8133964726164106, -0.15453588389286974, -0.5594892727234141, -0.03842645744867981},
       {1.6666666666666665, 1236.3406069725445, -2431.9518742638706, -1589.9883888718077, 0.7482217656209832, -0.1375511421035105, -0.6440872810287572, -0.07997153977522908},
       {1.8333333333333333, 2191.5769117581062, -2963.9541042924457, -1368.0931359850683, 0.6730066402549132, -0.11872059593163264, -0.7200422558567574, -0.12044348074986728}};
-  std::vector<Keyframe> frames;
-  for (const auto& r : rows)
-    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
-                                                          r[6], r[7])});
-  const Motion sheet_motion = Motion::keyframes(frames, Motion::Type::Table);
+  const Motion sheet_motion = keyframes_of(rows, Motion::Type::Table);
   Body_pair_tracker tracker(sheet, plane);
   int apart = 0;
   for (const auto& row : rows) {
@@ -441,11 +428,7 @@ TEST(ProbeScenes, ASheetsEdgeHeldOnAPlanesCornerIsNoCertificate) {
        0.6795426413686164, -0.4585072369209526, 0.15525763629059328},
       {0.5, -2099.717044472459, 1904.424980682942, 1198.2589983371631, 0.550855547612725,
        0.6784354744642591, -0.46045599261601733, 0.15576826222545673}};
-  std::vector<Keyframe> frames;
-  for (const auto& r : rows)
-    frames.push_back({r[0], Rigid_pose_3::from_quaternion(Vec3(r[1], r[2], r[3]), r[4], r[5],
-                                                          r[6], r[7])});
-  const Motion motion = Motion::keyframes(frames, Motion::Type::Table);
+  const Motion motion = keyframes_of(rows, Motion::Type::Table);
   Body_pair_tracker tracker(sheet, plane);
   double worst = 0.0;
   for (const auto& row : rows) {

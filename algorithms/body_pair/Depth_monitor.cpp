@@ -181,18 +181,8 @@ bool Depth_monitor::seed_overlap(const Distance_result& g, const Rigid_pose_3& X
   if (against) request.relative_tolerance = std::max(request.relative_tolerance, k_coarse_depth_tolerance);
   Signed_distance_result h = hull_signed_distance(HA, X_WA, HB, X_WB, request);
   if (!(h.distance <= 0.0) || h.element_a < 0 || h.element_b < 0) return false;
-  // A solid through an open sheet keeps the depth of the side it entered by (m_sheet_side):
-  // where the hulls' depth is the other side's (the shallower, past half way), the depth along
-  // the opposite direction is seeded (test
-  // SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningFastKeepsItsEntrySideWhenItsTrackerIsLost).
-  bool entry_side = m_sheet_side.norm() > 0.5 && meet &&
-                    h.normal.dot(X_WA.rotation() * m_sheet_side) < 0.0;
-  if (entry_side) {
-    const Signed_distance_result e =
-        directional_signed_distance(HA, X_WA, HB, X_WB, -h.normal, request);
-    entry_side = e.is_certified() && e.distance <= 0.0 && e.element_a >= 0 && e.element_b >= 0;
-    if (entry_side) h = e;
-  }
+  // A solid through an open sheet keeps the depth of the side it entered by (m_sheet_side).
+  const bool entry_side = meet && keep_entry_side(HA, X_WA, HB, X_WB, m_sheet_side, request, h);
   // Hulls deeper than every tracked pair, where the surfaces meet: its pair, when each witness
   // lies inside the other body (below), may be a depth no tracker saw arise (a cylinder
   // tumbling on a box, its far rim now the deeper: it read -9.1 against -25.7). Its tracker

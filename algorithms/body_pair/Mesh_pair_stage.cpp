@@ -60,18 +60,11 @@ bool Mesh_pair_stage::nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) co
 }
 
 void Mesh_pair_stage::read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB,
-                                 const Vec3* entry_side) {
+                                 const Vec3& entry_side) {
   Pair_answer& r = m_answer;
   Signed_distance_result h =
       hull_signed_distance(m_a.hierarchy(), X_WA, m_b.hierarchy(), X_WB, m_options.overlap);
-  // The side entered by: where the hulls' depth is the other side's (past half way), the
-  // depth along the opposite direction, as the body-pair tracker does for a solid and a sheet.
-  if (entry_side != nullptr && entry_side->norm() > 0.5 &&
-      h.normal.dot(X_WA.rotation() * *entry_side) < 0.0) {
-    const Signed_distance_result e = directional_signed_distance(
-        m_a.hierarchy(), X_WA, m_b.hierarchy(), X_WB, -h.normal, m_options.overlap);
-    if (e.is_certified() && e.distance <= 0.0 && e.element_a >= 0 && e.element_b >= 0) h = e;
-  }
+  keep_entry_side(m_a.hierarchy(), X_WA, m_b.hierarchy(), X_WB, entry_side, m_options.overlap, h);
   if (!(h.distance < -m_options.contact_tolerance)) return;  // the hulls barely meet: contact
   r.distance = h.distance;
   r.point_a = h.point_a;
@@ -126,22 +119,21 @@ const Pair_answer& Mesh_pair_stage::step(const Pair_step& step) {
   if (!m_other && c.distance > 0.0 && nested(X_MO, c)) r.distance = -c.distance;
   // point_b - point_a = distance * normal, inside as apart.
   r.normal = r.distance != 0.0 ? Vec3((r.point_b - r.point_a) / r.distance) : Vec3::Zero();
-  const bool meet = !(c.distance > tol);
-  if (m_other && m_mesh.closed() && m_other->closed()) {
-    if (meet || nested(X_MO, c)) read_depth(X_WA, X_WB, nullptr);
-  } else if (m_other && (m_mesh.closed() || m_other->closed())) {
-    // A closed mesh and an open one: the side entered by while the surfaces meet, the hulls'
-    // depth while the open one lies inside (which has no side: leaving, it reads the hulls'
-    // depth), the side it is on while apart (tests
-    // Overlap.AClosedMeshThroughAnOpenMeshKeepsItsEntrySidesDepthWhileTheSurfacesMeet,
-    // Overlap.AnOpenMeshInAClosedMeshReadsTheHullsDepth).
-    if (meet)
-      read_depth(X_WA, X_WB, &m_entry_side);
-    else if (nested(X_MO, c)) {
+  // A closed mesh against another or an open one: the hulls' depth where the surfaces meet
+  // or one lies inside the other. Against an open one (a sheet), the side entered by while
+  // they meet and the side it is on while apart; one inside has no side (tests
+  // Overlap.AClosedMeshThroughAnOpenMeshKeepsItsEntrySidesDepthWhileTheSurfacesMeet,
+  // Overlap.AnOpenMeshInAClosedMeshReadsTheHullsDepth).
+  if (m_other && (m_mesh.closed() || m_other->closed())) {
+    const bool sheet = !(m_mesh.closed() && m_other->closed());
+    if (!(c.distance > tol)) {
+      read_depth(X_WA, X_WB, m_entry_side);
+    } else if (nested(X_MO, c)) {
       m_entry_side = Vec3::Zero();
-      read_depth(X_WA, X_WB, nullptr);
-    } else
+      read_depth(X_WA, X_WB, m_entry_side);
+    } else if (sheet) {
       m_entry_side = X_WA.rotation().transpose() * r.normal;
+    }
   }
   // Apart: the front's certified bound (the least decayed key of its entries).
   r.lower_bound = c.lower_bound;

@@ -194,7 +194,7 @@ struct Signed_distance_result {
 // upper_bound, within the request's tolerance, status Penetrating; Budget_exhausted when a
 // search ran out), witnesses as hull_signed_distance gives them (a flat support face's across
 // from the other witness). The depth of the side a solid entered an open sheet by: n the
-// sheet's normal on that side (Body_pair_tracker::seed_overlap, bench/verify_report).
+// sheet's normal on that side (keep_entry_side in algorithms/body_pair).
 [[nodiscard]] Signed_distance_result directional_signed_distance(
     const Distance_hierarchy& HA, const Rigid_pose_3& X_WA, const Distance_hierarchy& HB,
     const Rigid_pose_3& X_WB, const Vec3& n_W, const Signed_distance_request& request = {});

@@ -12,6 +12,7 @@
 #include "algorithms/body_pair/Body_pair_options.h"
 #include "algorithms/body_pair/Tracking_model.h"
 #include "algorithms/body_pair/internal/Tuning.h"
+#include "algorithms/distance/Penetration_depth.h"
 #include "kernel/Rigid_pose_3.h"
 #include "kernel/Types.h"
 
@@ -107,6 +108,23 @@ inline void params_from_global(const Primitive& p, const std::array<double, 2>& 
     return;
   }
   for (int k = 0; k < p.feature.dimension(); ++k) out[k] = q[k];
+}
+
+// A closed body through a sheet keeps the depth of the side it entered by: `side_A` is the
+// normal, in A's frame, of the last reading apart (zero: none). Where the hulls' depth h is
+// the other side's (the shallower, past half way), h becomes the depth along -h.normal when
+// that is certified and a depth; true if it did (tests
+// SheetDepth.ATurnedEllipsoidThroughAPlaneSpinningFastKeepsItsEntrySideWhenItsTrackerIsLost,
+// Overlap.AClosedMeshThroughAnOpenMeshKeepsItsEntrySidesDepthWhileTheSurfacesMeet).
+inline bool keep_entry_side(const Distance_hierarchy& HA, const Rigid_pose_3& X_WA,
+                            const Distance_hierarchy& HB, const Rigid_pose_3& X_WB,
+                            const Vec3& side_A, const Signed_distance_request& request,
+                            Signed_distance_result& h) {
+  if (!(side_A.norm() > 0.5) || !(h.normal.dot(X_WA.rotation() * side_A) < 0.0)) return false;
+  const Signed_distance_result e = directional_signed_distance(HA, X_WA, HB, X_WB, -h.normal, request);
+  if (!(e.is_certified() && e.distance <= 0.0 && e.element_a >= 0 && e.element_b >= 0)) return false;
+  h = e;
+  return true;
 }
 
 }  // namespace extremal::internal

@@ -52,9 +52,9 @@ class Mesh_pair_stage final : public Pair_engine {
   // Whether the bodies overlap though their surfaces are apart: one body wholly inside the
   // other, closed, one (or the point inside the closed mesh).
   bool nested(const Rigid_pose_3& X_MO, const Mesh_closest& c) const;
-  // The answer becomes the hulls' depth (along the side entered by, `entry_side` in A's frame,
-  // where that is known and the hulls' is the other side's), unless the hulls barely meet.
-  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, const Vec3* entry_side);
+  // The answer becomes the hulls' depth (kept on the side entered by, `entry_side` in A's
+  // frame, zero: none; keep_entry_side), unless the hulls barely meet.
+  void read_depth(const Rigid_pose_3& X_WA, const Rigid_pose_3& X_WB, const Vec3& entry_side);
 
   std::shared_ptr<const Tracking_model> m_models[2];
   const Tracking_model& m_a;
